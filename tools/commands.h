@@ -1,0 +1,13 @@
+/* SPDX-License-Identifier: MIT */
+/* The subcommands of the hdlamp tool; each returns the exit code (0 ok, 1 failure, 2 usage). */
+#ifndef HL_TOOLS_COMMANDS_H
+#define HL_TOOLS_COMMANDS_H
+
+#define HL_EXIT_OK 0
+#define HL_EXIT_FAIL 1
+#define HL_EXIT_USAGE 2
+
+int hl_cmd_model(int argc, char **argv);
+int hl_cmd_lid(int argc, char **argv);
+
+#endif
