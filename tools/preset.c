@@ -108,10 +108,12 @@ static int read_values(struct cursor *c, uint8_t **ret, int *ret_n)
 		return bad(c, "%s", "expected at least one dimming value");
 	}
 	for (;;) {
+		struct cursor at;
 		long x = 0;
 		int digits = 0;
 
 		skip_space(c);
+		at = *c; /* errors about a value point at its start */
 		while (*c->s >= '0' && *c->s <= '9' && digits < 4) {
 			x = x * 10 + (*c->s - '0');
 			digits++;
@@ -119,7 +121,7 @@ static int read_values(struct cursor *c, uint8_t **ret, int *ret_n)
 		}
 		if (digits == 0 || (*c->s >= '0' && *c->s <= '9') || x > HL_DIM_MAX) {
 			free(v);
-			return bad(c, "%s", "expected a dimming value: an integer 0..63");
+			return bad(&at, "%s", "expected a dimming value: an integer 0..63");
 		}
 		if (n == cap) {
 			uint8_t *g;
@@ -165,12 +167,16 @@ int hl_preset_parse(const char *text, struct hl_preset **ret, struct hl_preset_e
 		char key[32];
 		int side;
 
+		struct cursor at;
+
+		skip_space(&c);
+		at = c; /* errors about the key point at its start */
 		rc = read_key(&c, key, sizeof(key));
 		if (rc < 0)
 			break;
 		side = hl_side_from_name(key);
 		if (side < 0 || vals[side]) {
-			rc = bad(&c,
+			rc = bad(&at,
 				 side < 0 ? "unknown key '%s'; expected \"left\" or \"right\"" :
 					    "key '%s' given twice",
 				 key);
