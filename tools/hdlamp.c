@@ -14,6 +14,7 @@ struct command {
 static const struct command commands[] = {
 	{ "model", hl_cmd_model, "generate the HD84 lamp pair and its presets, or a pixel lamp" },
 	{ "lid", hl_cmd_lid, "inspect, combine and plot LID files (info, combine, plot)" },
+	{ "dbc", hl_cmd_dbc, "show CAN databases, decode candump logs, encode frames" },
 };
 
 static void usage(FILE *f)

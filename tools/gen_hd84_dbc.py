@@ -1,0 +1,172 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Writes dbc/hd84.dbc and dbc/hd84_fd.dbc, the HD84 lamp pair's CAN databases.
+
+The .dbc files are the data the daemon reads; this script only keeps their 2 x 95 signal and
+attribute lines consistent. Run it from the source tree: tools/gen_hd84_dbc.py
+"""
+import os
+import sys
+
+N_SOURCES = 95  # per lamp: 84 matrix LEDs (3 rows of 28) + 11 further sources (DESIGN.md §1)
+FACTOR = repr(1 / 63)  # 0.015873015873015872: reads back as exactly the double 1/63
+LAMPS = (("L", "left", "HL_L"), ("R", "right", "HL_R"))
+
+HEADER = '''VERSION "hdlamp HD84 {version}"
+
+
+NS_ :
+	NS_DESC_
+	CM_
+	BA_DEF_
+	BA_
+	VAL_
+	BA_DEF_DEF_
+	SIG_VALTYPE_
+	SG_MUL_VAL_
+	BO_TX_BU_
+
+BS_:
+
+BU_: ECU HL_L HL_R
+
+'''
+
+ATTR_DEFS = '''BA_DEF_  "BusType" STRING ;
+BA_DEF_ BO_  "GenMsgCycleTime" INT 0 10000;
+BA_DEF_ BO_  "VFrameFormat" ENUM  "StandardCAN","ExtendedCAN","reserved","reserved","reserved","reserved","reserved","reserved","reserved","reserved","reserved","reserved","reserved","reserved","StandardCAN_FD","ExtendedCAN_FD";
+BA_DEF_ BO_  "HdlLamp" STRING ;
+BA_DEF_ BO_  "HdlE2E" STRING ;
+BA_DEF_ SG_  "HdlSource" INT 0 4096;
+BA_DEF_DEF_  "BusType" "CAN";
+BA_DEF_DEF_  "GenMsgCycleTime" 0;
+BA_DEF_DEF_  "VFrameFormat" "StandardCAN";
+BA_DEF_DEF_  "HdlLamp" "";
+BA_DEF_DEF_  "HdlE2E" "none";
+BA_DEF_DEF_  "HdlSource" 0;
+'''
+
+CLASSIC_NOTE = '''hd84.dbc - the HD84 headlamp pair on classic CAN (hdlamp, DESIGN.md section 5).
+
+Every 20 ms the ECU sends the 6-bit dimming value v_k of each of the 95 sources of each lamp;
+the relative current is i_k = v_k / 63, which is the physical value of every LED_nnn signal
+(factor 1/63, offset 0). Each lamp has one multiplexed 8-byte message:
+  HL_Dim_L 0x320 (800), lamp left;  HL_Dim_R 0x321 (801), lamp right.
+
+Byte 0       CRC-8 SAE J1850 (poly 0x1D, init 0xFF, final XOR 0xFF) over the data ID (low
+             byte, high byte: HdlE2E P1 dataid) and bytes 1..7 - the E2E profile 1 layout.
+Byte 1 0..3  alive counter 0..14, one step per frame (each page), wrapping 14 -> 0; 15 is
+             never sent.
+Byte 1 4..7  page index 0..11, the multiplexor.
+Bytes 2..7   8 sources x 6 bits, Intel: slot j (0..7) at start bit 16 + 6 j holds source
+             8 page + j + 1, signal LED_nnn with attribute HdlSource nnn.
+
+A cycle is pages 0..11 in order, 12 frames per lamp, 24 per 20 ms (about 30 percent of a
+500 kbit/s bus). 12 x 8 = 96 slots carry 95 sources: the last slot (page 11, bits 58..63) is
+reserved - no signal is defined there, the ECU sends zeros and receivers ignore it.
+
+Attributes: HdlLamp (BO_, string) names the lamp of the daemon's configuration; HdlSource
+(SG_, int) is the 1-based source index, 0 for signals that carry no source; HdlE2E (BO_,
+string) is the E2E profile and data ID; GenMsgCycleTime is the cycle, 20 ms.'''
+
+FD_NOTE = '''hd84_fd.dbc - the HD84 headlamp pair on CAN FD (hdlamp, DESIGN.md section 5).
+
+The same 95 sources per lamp as hd84.dbc, 6 bits each, physical value i_k = v_k / 63, but in
+two CAN FD frames per lamp and cycle, without multiplexing:
+  HL_DimA_L 0x330 (816), 64 bytes: sources 1..80    HL_DimB_L 0x331 (817), 16 bytes: 81..95
+  HL_DimA_R 0x332 (818), 64 bytes: sources 1..80    HL_DimB_R 0x333 (819), 16 bytes: 81..95
+
+Bytes 0..1   CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF), little endian, over bytes
+             2..len-1 and then the data ID low and high byte (HdlE2E P5 dataid).
+Byte 2       counter 0..255, one step per cycle; A and B of one cycle carry the same value,
+             which is how a receiver pairs them.
+Bytes 3..    the sources, 6 bits each, Intel: source k of the frame at start bit 24 + 6 (k - 1).
+             A: 80 x 6 = 480 bits end at bit 503, byte 63 is reserved (zero).
+             B: 15 x 6 = 90 bits end at bit 113, bits 114..127 are reserved (zero).
+
+E2E: AUTOSAR profile 5, not a profile 2 style CRC-8. With 64-byte payloads an 8-bit CRC is
+too weak: the CRC8H2F polynomial keeps Hamming distance 4 only up to 119 data bits and every
+CRC-8 lets 1 in 256 random corruptions through, while CRC-16/CCITT keeps Hamming distance 4 up
+to 32751 bits and lets 1 in 65536 through. Profile 5 is the profile AUTOSAR defines for such
+frames (static data ID, not sent; 8-bit counter), and two bytes of CRC are cheap in a 64-byte
+frame.'''
+
+
+def source_attrs(msg_id, names_first):
+    return [f'BA_ "HdlSource" SG_ {msg_id} LED_{k:03d} {k};' for k in names_first]
+
+
+def classic():
+    out = [HEADER.format(version="1.0")]
+    ba, cm, val = [], [], []
+    for i, (suffix, lamp, node) in enumerate(LAMPS):
+        msg_id = 0x320 + i
+        out.append(f"BO_ {msg_id} HL_Dim_{suffix}: 8 ECU")
+        out.append(f' SG_ HL_CRC_{suffix} : 0|8@1+ (1,0) [0|255] "" {node}')
+        out.append(f' SG_ HL_Alive_{suffix} : 8|4@1+ (1,0) [0|14] "" {node}')
+        out.append(f' SG_ HL_Page_{suffix} M : 12|4@1+ (1,0) [0|11] "" {node}')
+        for k in range(1, N_SOURCES + 1):
+            page, slot = divmod(k - 1, 8)
+            out.append(f' SG_ LED_{k:03d} m{page} : {16 + 6 * slot}|6@1+ ({FACTOR},0) [0|1] "" {node}')
+        out.append("")
+        cm.append(f'CM_ BO_ {msg_id} "Dimming of the {lamp} lamp: page HL_Page_{suffix} carries sources 8 page + 1 .. 8 page + 8.";')
+        cm.append(f'CM_ SG_ {msg_id} HL_CRC_{suffix} "CRC-8 SAE J1850 over data ID (low, high) and bytes 1..7 (E2E P1 layout).";')
+        cm.append(f'CM_ SG_ {msg_id} HL_Alive_{suffix} "Alive counter 0..14, +1 per frame, wraps to 0.";')
+        cm.append(f'CM_ SG_ {msg_id} HL_Page_{suffix} "Page 0..11: which 8 sources bytes 2..7 carry.";')
+        ba.append(f'BA_ "GenMsgCycleTime" BO_ {msg_id} 20;')
+        ba.append(f'BA_ "VFrameFormat" BO_ {msg_id} 0;')
+        ba.append(f'BA_ "HdlLamp" BO_ {msg_id} "{lamp}";')
+        ba.append(f'BA_ "HdlE2E" BO_ {msg_id} "P1 dataid=0x{msg_id:04X}";')
+        ba.extend(source_attrs(msg_id, range(1, N_SOURCES + 1)))
+        pages = " ".join(f'{p} "sources {8 * p + 1}-{min(8 * p + 8, N_SOURCES)}"' for p in range(12))
+        val.append(f"VAL_ {msg_id} HL_Page_{suffix} {pages} ;")
+    out.append("")
+    out.append(f'CM_ "{CLASSIC_NOTE}";')
+    out.extend(cm)
+    out.append(ATTR_DEFS.rstrip("\n"))
+    out.append('BA_ "BusType" "CAN";')
+    out.extend(ba)
+    out.extend(val)
+    return "\n".join(out) + "\n"
+
+
+def fd():
+    out = [HEADER.format(version="FD 1.0")]
+    ba, cm = [], []
+    for i, (suffix, lamp, node) in enumerate(LAMPS):
+        for part, (size, first, last) in zip("AB", ((64, 1, 80), (16, 81, N_SOURCES))):
+            msg_id = 0x330 + 2 * i + (part == "B")
+            name = f"HL_Dim{part}_{suffix}"
+            out.append(f"BO_ {msg_id} {name}: {size} ECU")
+            out.append(f' SG_ HL_CRC_{part}_{suffix} : 0|16@1+ (1,0) [0|65535] "" {node}')
+            out.append(f' SG_ HL_Counter_{part}_{suffix} : 16|8@1+ (1,0) [0|255] "" {node}')
+            for k in range(first, last + 1):
+                out.append(f' SG_ LED_{k:03d} : {24 + 6 * (k - first)}|6@1+ ({FACTOR},0) [0|1] "" {node}')
+            out.append("")
+            cm.append(f'CM_ BO_ {msg_id} "Dimming of the {lamp} lamp, sources {first}..{last} ({size}-byte CAN FD frame {part} of 2).";')
+            cm.append(f'CM_ SG_ {msg_id} HL_CRC_{part}_{suffix} "CRC-16/CCITT-FALSE over bytes 2..{size - 1} and the data ID (E2E P5), little endian.";')
+            cm.append(f'CM_ SG_ {msg_id} HL_Counter_{part}_{suffix} "Counter 0..255, +1 per cycle; equal in frames A and B of a cycle.";')
+            ba.append(f'BA_ "GenMsgCycleTime" BO_ {msg_id} 20;')
+            ba.append(f'BA_ "VFrameFormat" BO_ {msg_id} 14;')
+            ba.append(f'BA_ "HdlLamp" BO_ {msg_id} "{lamp}";')
+            ba.append(f'BA_ "HdlE2E" BO_ {msg_id} "P5 dataid=0x{msg_id:04X}";')
+            ba.extend(source_attrs(msg_id, range(first, last + 1)))
+    out.append("")
+    out.append(f'CM_ "{FD_NOTE}";')
+    out.extend(cm)
+    out.append(ATTR_DEFS.rstrip("\n"))
+    out.append('BA_ "BusType" "CAN FD";')
+    out.extend(ba)
+    return "\n".join(out) + "\n"
+
+
+def main():
+    top = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    for name, text in (("hd84.dbc", classic()), ("hd84_fd.dbc", fd())):
+        with open(os.path.join(top, "dbc", name), "w") as f:
+            f.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
