@@ -1,0 +1,290 @@
+/* SPDX-License-Identifier: MIT */
+/* The cycle assembler on the shipped databases: values, counters, E2E faults, timeouts. */
+#include <errno.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "can/assembler.h"
+#include "testutil.h"
+
+#define MS 1000000LL
+
+static const char *const lamps[2] = { "left", "right" };
+
+struct fixture {
+	struct hl_dbc *db;
+	struct hl_assembler *a;
+};
+
+static struct hl_dbc *load_db(const char *name)
+{
+	char path[512];
+	struct hl_dbc *db = NULL;
+	struct hl_dbc_error err;
+
+	snprintf(path, sizeof(path), "%s/dbc/%s", getenv("HL_SOURCE_DIR"), name);
+	if (hl_dbc_parse_file(path, &db, &err) < 0)
+		fail_msg("%s:%d:%d: %s", path, err.line, err.column, err.msg);
+	return db;
+}
+
+static int setup_db(void **state, const char *name)
+{
+	struct fixture *f = calloc(1, sizeof(*f));
+	struct hl_asm_error err;
+
+	f->db = load_db(name);
+	if (hl_assembler_new(f->db, lamps, 2, 100, 0, &f->a, &err) < 0)
+		fail_msg("%s", err.msg);
+	*state = f;
+	return 0;
+}
+
+static int setup_classic(void **state)
+{
+	return setup_db(state, "hd84.dbc");
+}
+
+static int setup_fd(void **state)
+{
+	return setup_db(state, "hd84_fd.dbc");
+}
+
+static int teardown(void **state)
+{
+	struct fixture *f = *state;
+
+	hl_assembler_free(f->a);
+	hl_dbc_free(f->db);
+	free(f);
+	return 0;
+}
+
+static void values(unsigned long long *rng, float *i)
+{
+	for (int k = 0; k < 95; k++)
+		i[k] = (float)(test_rand(rng) % 64) / 63.0f;
+}
+
+/* Feeds frames; returns the number of cycles completed, the last one in *ret. */
+static int feed(struct hl_assembler *a, const struct hl_encoded_frame *fr, int n, int64_t t_ns,
+		struct hl_cycle *ret, struct hl_asm_events *ev)
+{
+	int done = 0;
+
+	for (int j = 0; j < n; j++) {
+		struct hl_cycle c;
+
+		if (hl_assembler_feed(a, &fr[j].frame, t_ns, t_ns, &c, ev) == 1) {
+			*ret = c;
+			done++;
+		}
+	}
+	return done;
+}
+
+static void assembler_plans_both_lamps_from_the_dbc(void **state)
+{
+	struct fixture *f = *state;
+	uint32_t ids[8];
+
+	assert_int_equal(hl_assembler_n_lamps(f->a), 2);
+	assert_int_equal(hl_assembler_n_sources(f->a, 0), 95);
+	assert_int_equal(hl_assembler_n_sources(f->a, 1), 95);
+	assert_string_equal(hl_assembler_lamp_name(f->a, 1), "right");
+	assert_true(hl_assembler_ids(f->a, ids, 8) >= 2);
+}
+
+static void assembler_cycles_round_trip_exactly(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_encoded_frame fr[2][64];
+	unsigned long long rng = 5;
+	float in[2][95];
+	int n[2];
+
+	for (int cyc = 0; cyc < 40; cyc++) {
+		const unsigned counter = (unsigned)cyc % (hl_assembler_counter_max(f->a, 0) + 1);
+
+		for (int l = 0; l < 2; l++) {
+			values(&rng, in[l]);
+			n[l] = hl_assembler_encode(f->a, l, in[l], counter, fr[l], 64);
+			assert_true(n[l] >= 2);
+		}
+		/* the lamps' frames interleave on the bus */
+		for (int j = 0; j < n[0] || j < n[1]; j++) {
+			for (int l = 0; l < 2; l++) {
+				struct hl_cycle c;
+				struct hl_asm_events ev;
+				int done;
+
+				if (j >= n[l])
+					continue;
+				done = hl_assembler_feed(f->a, &fr[l][j].frame, cyc * 20 * MS + j,
+							 cyc * 20 * MS + j, &c, &ev);
+				assert_int_equal(done, j == n[l] - 1);
+				if (!done)
+					continue;
+				assert_int_equal(c.lamp, l);
+				assert_true(c.seq == (uint64_t)cyc + 1);
+				assert_int_equal(c.counter, counter);
+				assert_int_equal(c.n_sources, 95);
+				assert_memory_equal(c.i, in[l], sizeof(in[l]));
+			}
+		}
+	}
+	for (int l = 0; l < 2; l++) {
+		const struct hl_lamp_counters *lc = hl_assembler_lamp_counters(f->a, l);
+
+		assert_true(lc->cycles == 40 && lc->crc_errors == 0 && lc->incomplete == 0 &&
+			    lc->lost_cycles == 0 && lc->repeated_frames == 0 &&
+			    lc->stale_events == 0);
+	}
+}
+
+/* One fault each: a CRC error, a missing page, a counter jump, a repeated cycle. */
+static void assembler_counts_each_injected_fault_once(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_encoded_frame fr[64];
+	struct hl_asm_events ev;
+	struct hl_cycle c;
+	float in[95];
+	unsigned long long rng = 11;
+	const struct hl_lamp_counters *lc = hl_assembler_lamp_counters(f->a, 0);
+	int n;
+
+	values(&rng, in);
+	n = hl_assembler_encode(f->a, 0, in, 0, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 0, &c, &ev), 1);
+
+	/* counter 1: one frame's payload bit flipped: CRC error, cycle cannot complete */
+	n = hl_assembler_encode(f->a, 0, in, 1, fr, 64);
+	fr[1].frame.data[3] ^= 0x10;
+	assert_int_equal(feed(f->a, fr, n, 20 * MS, &c, &ev), 0);
+	assert_true(lc->crc_errors == 1);
+
+	/* counter 2 completes; counter 1 was abandoned, so nothing is "lost" */
+	n = hl_assembler_encode(f->a, 0, in, 2, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 40 * MS, &c, &ev), 1);
+	assert_true(lc->incomplete == 1 && lc->lost_cycles == 0 && c.counter == 2);
+
+	/* counter 3 misses its last page; counter 4 completes */
+	n = hl_assembler_encode(f->a, 0, in, 3, fr, 64);
+	assert_int_equal(feed(f->a, fr, n - 1, 60 * MS, &c, &ev), 0);
+	n = hl_assembler_encode(f->a, 0, in, 4, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 80 * MS, &c, &ev), 1);
+	assert_true(lc->incomplete == 2 && lc->lost_cycles == 0);
+
+	/* counter jumps from 4 to 8: three cycles lost */
+	n = hl_assembler_encode(f->a, 0, in, 8, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 100 * MS, &c, &ev), 1);
+	assert_true(lc->lost_cycles == 3 && c.counter == 8);
+
+	/* the same cycle again: every frame ignored, counted */
+	assert_int_equal(feed(f->a, fr, n, 120 * MS, &c, &ev), 0);
+	assert_true(lc->repeated_frames == (uint64_t)n);
+	assert_true(lc->cycles == 4 && lc->crc_errors == 1 && lc->incomplete == 2 &&
+		    lc->lost_cycles == 3);
+	assert_true(hl_assembler_lamp_counters(f->a, 1)->frames == 0);
+}
+
+static void assembler_lamp_goes_stale_after_timeout_and_recovers(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_encoded_frame fr[64];
+	struct hl_asm_events ev;
+	struct hl_cycle c;
+	float in[95] = { 0 };
+	int n;
+
+	/* no cycle at all since start (t = 0): stale at exactly 100 ms */
+	assert_int_equal(hl_assembler_expire(f->a, 99 * MS), 0);
+	assert_true(hl_assembler_next_deadline(f->a) == 100 * MS);
+	assert_int_equal(hl_assembler_expire(f->a, 100 * MS), 3);
+	assert_true(hl_assembler_stale(f->a, 0) && hl_assembler_stale(f->a, 1));
+	assert_int_equal(hl_assembler_expire(f->a, 200 * MS), 0); /* once */
+
+	n = hl_assembler_encode(f->a, 0, in, 0, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 210 * MS, &c, &ev), 1);
+	assert_int_equal(ev.recovered, 1);
+	assert_false(hl_assembler_stale(f->a, 0));
+	assert_true(hl_assembler_next_deadline(f->a) == 310 * MS);
+	assert_int_equal(hl_assembler_expire(f->a, 309 * MS), 0);
+	assert_int_equal(hl_assembler_expire(f->a, 310 * MS), 1);
+	assert_true(hl_assembler_lamp_counters(f->a, 0)->stale_events == 2);
+	assert_true(hl_assembler_lamp_counters(f->a, 0)->recoveries == 1);
+}
+
+static void assembler_counts_error_short_and_unknown_frames(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_encoded_frame fr[64];
+	struct canfd_frame g = { 0 };
+	struct hl_asm_events ev;
+	struct hl_cycle c;
+	float in[95] = { 0 };
+	int n;
+
+	g.can_id = CAN_ERR_FLAG | 0x4; /* controller problem */
+	g.len = 8;
+	assert_int_equal(hl_assembler_feed(f->a, &g, 0, 0, &c, &ev), 0);
+	g.can_id = 0x7ff;
+	assert_int_equal(hl_assembler_feed(f->a, &g, 0, 0, &c, &ev), 0);
+	n = hl_assembler_encode(f->a, 0, in, 0, fr, 64);
+	assert_true(n > 0);
+	fr[0].frame.len = 3; /* short */
+	assert_int_equal(hl_assembler_feed(f->a, &fr[0].frame, 0, 0, &c, &ev), 0);
+	assert_true(hl_assembler_counters(f->a)->error_frames == 1);
+	assert_true(hl_assembler_counters(f->a)->dbc.unknown_id == 1);
+	assert_true(hl_assembler_counters(f->a)->dbc.short_frame == 1);
+	assert_true(hl_assembler_lamp_counters(f->a, 0)->frames == 0);
+}
+
+static void assembler_rejects_a_dbc_that_does_not_fit_the_lamps(void **state)
+{
+	struct hl_dbc *db = load_db("hd84.dbc");
+	static const char *const one[1] = { "left" };
+	static const char *const three[3] = { "left", "right", "centre" };
+	struct hl_assembler *a = NULL;
+	struct hl_asm_error err;
+	(void)state;
+
+	assert_int_equal(hl_assembler_new(db, one, 1, 100, 0, &a, &err), -EINVAL);
+	assert_non_null(strstr(err.msg, "HdlLamp \"right\" is not a configured lamp"));
+	assert_int_equal(hl_assembler_new(db, three, 3, 100, 0, &a, &err), -EINVAL);
+	assert_string_equal(
+		err.msg,
+		"lamp 'centre' has no message with HdlLamp \"centre\" and HdlSource signals");
+	assert_null(a);
+	hl_dbc_free(db);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test_setup_teardown(assembler_plans_both_lamps_from_the_dbc,
+						setup_classic, teardown),
+		cmocka_unit_test_setup_teardown(assembler_cycles_round_trip_exactly, setup_classic,
+						teardown),
+		cmocka_unit_test_setup_teardown(assembler_counts_each_injected_fault_once,
+						setup_classic, teardown),
+		cmocka_unit_test_setup_teardown(assembler_lamp_goes_stale_after_timeout_and_recovers,
+						setup_classic, teardown),
+		cmocka_unit_test_setup_teardown(assembler_counts_error_short_and_unknown_frames,
+						setup_classic, teardown),
+		cmocka_unit_test_setup_teardown(assembler_plans_both_lamps_from_the_dbc, setup_fd,
+						teardown),
+		cmocka_unit_test_setup_teardown(assembler_cycles_round_trip_exactly, setup_fd,
+						teardown),
+		cmocka_unit_test_setup_teardown(assembler_counts_each_injected_fault_once, setup_fd,
+						teardown),
+		cmocka_unit_test(assembler_rejects_a_dbc_that_does_not_fit_the_lamps),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
