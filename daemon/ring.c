@@ -226,3 +226,16 @@ void hl_ring_counts(const struct hl_ring *r, struct hl_ring_counts *ret)
 	ret->dropped = atomic_load_explicit(&m->dropped, memory_order_relaxed);
 	ret->pushed = atomic_load_explicit(&m->head, memory_order_acquire);
 }
+
+uint64_t hl_ring_pending(const struct hl_ring *r)
+{
+	struct hl_ring_counts c;
+
+	hl_ring_counts(r, &c);
+	return c.pushed - c.consumed - c.superseded - c.dropped;
+}
+
+unsigned hl_ring_slots(const struct hl_ring *r)
+{
+	return r->n_slots;
+}

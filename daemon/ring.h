@@ -43,6 +43,10 @@ struct hl_lamp_snapshot {
 struct hl_snapshot {
 	uint64_t seq; /* set by hl_ring_push: 0, 1, 2, ... */
 	int64_t t_push_ns;
+	int64_t t_event_ns; /* when what this snapshot reports happened (the producer's clock) */
+	uint32_t status; /* the producer's global status bits */
+	uint32_t bus; /* the producer's bus state */
+	int32_t link_errno; /* why the input is down, 0 when up */
 	int n_lamps, n_sources;
 	struct hl_lamp_snapshot lamps[HL_RING_MAX_LAMPS];
 	float *i;
@@ -74,5 +78,8 @@ bool hl_ring_take_newest(struct hl_ring *ring, struct hl_snapshot *ret);
 bool hl_ring_pop(struct hl_ring *ring, struct hl_snapshot *ret);
 
 void hl_ring_counts(const struct hl_ring *ring, struct hl_ring_counts *ret);
+/* Snapshots pushed that the consumer has not reached yet (any thread; a snapshot in time). */
+uint64_t hl_ring_pending(const struct hl_ring *ring);
+unsigned hl_ring_slots(const struct hl_ring *ring);
 
 #endif

@@ -15,6 +15,7 @@ static const struct command commands[] = {
 	{ "model", hl_cmd_model, "generate the HD84 lamp pair and its presets, or a pixel lamp" },
 	{ "lid", hl_cmd_lid, "inspect, combine and plot LID files (info, combine, plot)" },
 	{ "dbc", hl_cmd_dbc, "show CAN databases, decode candump logs, encode frames" },
+	{ "scenario", hl_cmd_scenario, "write the drive scenario (with faults) as a candump log" },
 };
 
 static void usage(FILE *f)

@@ -296,7 +296,7 @@ static void fill_high(uint8_t *d)
 }
 
 /* Does source k put any light into the oncoming vehicle's window? */
-static bool lights_window(const struct hl_lid *lid, int k)
+static bool lights_window(const struct hl_lid *lid, int k, float h_min, float h_max)
 {
 	const struct hl_lid_grid *g = hl_lid_grid(lid);
 	struct hl_lid_box b;
@@ -310,12 +310,27 @@ static bool lights_window(const struct hl_lid *lid, int k)
 		for (int x = b.x0; x < b.x1; x++) {
 			const float h = hl_lid_grid_h_deg(g, x);
 
-			if (h >= HL_GLAREFREE_H_MIN && h <= HL_GLAREFREE_H_MAX &&
+			if (h >= h_min && h <= h_max &&
 			    s[(size_t)(y - b.y0) * (b.x1 - b.x0) + (x - b.x0)] > 0.0f)
 				return true;
 		}
 	}
 	return false;
+}
+
+static void glarefree_side(const struct hl_lid *lid, float h_min, float h_max, uint8_t *d)
+{
+	fill_high(d);
+	for (int k = 0; k < HL_HD84_SOURCES; k++)
+		if (lights_window(lid, k, h_min, h_max))
+			d[k] = 0;
+}
+
+void hl_model_hd84_glarefree(struct hl_lid *const lamps[2], float h_min_deg, float h_max_deg,
+			     struct hl_preset *p)
+{
+	for (int side = 0; side < 2; side++)
+		glarefree_side(lamps[side], h_min_deg, h_max_deg, p->dim[side]);
 }
 
 int hl_model_hd84_preset(const char *name, struct hl_lid *const lamps[2], struct hl_preset *p)
@@ -330,10 +345,7 @@ int hl_model_hd84_preset(const char *name, struct hl_lid *const lamps[2], struct
 		} else if (strcmp(name, "high") == 0) {
 			fill_high(d);
 		} else if (strcmp(name, "glarefree") == 0) {
-			fill_high(d);
-			for (int k = 0; k < HL_HD84_SOURCES; k++)
-				if (lights_window(lamps[side], k))
-					d[k] = 0;
+			glarefree_side(lamps[side], HL_GLAREFREE_H_MIN, HL_GLAREFREE_H_MAX, d);
 		} else if (strcmp(name, "bend_left") == 0 || strcmp(name, "bend_right") == 0) {
 			const bool left = strcmp(name, "bend_left") == 0;
 

@@ -52,4 +52,12 @@ extern const char *const hl_model_preset_names[];
  */
 int hl_model_hd84_preset(const char *name, struct hl_lid *const lamps[2], struct hl_preset *p);
 
+/*
+ * The high beam with every source that lights H h_min..h_max (degrees), V HL_GLAREFREE_V_MIN..
+ * HL_GLAREFREE_V_MAX switched off, from the lamps' data: the glare-free preset for an oncoming
+ * vehicle anywhere (the "glarefree" preset is H -6..-2).
+ */
+void hl_model_hd84_glarefree(struct hl_lid *const lamps[2], float h_min_deg, float h_max_deg,
+			     struct hl_preset *p);
+
 #endif

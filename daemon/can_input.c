@@ -1,0 +1,325 @@
+/* SPDX-License-Identifier: MIT */
+#include "daemon/can_input.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <poll.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include "can/candump_log.h"
+#include "can/socket.h"
+
+#define POLL_MAX_MS 100 /* longest wait, so a stop request is seen promptly */
+#define MALFORMED_LOGGED 20 /* malformed log lines reported one by one; the rest counted */
+#define READ_BATCH 64
+
+struct hl_can_input {
+	struct hl_can_input_config cfg;
+	struct hl_assembler *a;
+	struct hl_ring *ring;
+	struct hl_can_socket *sock;
+	struct hl_candump_log *log;
+	struct hl_snapshot *snap; /* the producer's view of every lamp, pushed on changes */
+	int wake_fd;
+	pthread_t thread;
+	bool started;
+	atomic_int stop;
+};
+
+int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler *a,
+		     struct hl_ring *ring, struct hl_can_input **ret)
+{
+	struct hl_can_input *in = calloc(1, sizeof(*in));
+	int rc;
+
+	if (!in)
+		return -ENOMEM;
+	in->cfg = *cfg;
+	in->a = a;
+	in->ring = ring;
+	in->wake_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+	atomic_init(&in->stop, 0);
+	rc = in->wake_fd < 0 ? -errno : hl_snapshot_new(ring, &in->snap);
+	if (rc == 0 && cfg->replay)
+		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop, &in->log);
+	if (rc == 0 && cfg->iface) {
+		uint32_t ids[64];
+		const int n = hl_assembler_ids(a, ids, 64);
+
+		rc = hl_can_socket_new(cfg->iface, ids, n, &in->sock);
+	}
+	if (rc < 0) {
+		hl_can_input_free(in);
+		return rc;
+	}
+	in->snap->status = cfg->replay ? HL_INPUT_LINK_UP : 0;
+	in->snap->link_errno = cfg->replay ? 0 : ENETDOWN;
+	*ret = in;
+	return 0;
+}
+
+void hl_can_input_free(struct hl_can_input *in)
+{
+	if (!in)
+		return;
+	hl_can_input_stop(in);
+	hl_can_socket_free(in->sock);
+	hl_candump_log_free(in->log);
+	hl_snapshot_free(in->snap);
+	if (in->wake_fd >= 0)
+		close(in->wake_fd);
+	free(in);
+}
+
+int hl_can_input_wake_fd(const struct hl_can_input *in)
+{
+	return in->wake_fd;
+}
+
+static void push(struct hl_can_input *in, int64_t t_event_ns)
+{
+	const uint64_t one = 1;
+
+	/*
+	 * A fast replay waits for the consumer instead of overrunning the ring: a log can wait,
+	 * a bus cannot (a live input never gets here blocked).
+	 */
+	while (in->log && in->cfg.replay_fast && !atomic_load(&in->stop) &&
+	       hl_ring_pending(in->ring) + 1 >= hl_ring_slots(in->ring))
+		hl_sleep_until(hl_monotonic_ns() + 100000, NULL);
+
+	in->snap->t_push_ns = hl_monotonic_ns();
+	in->snap->t_event_ns = t_event_ns;
+	hl_ring_push(in->ring, in->snap);
+	/* wakes the consumer; an eventfd write never blocks while its counter is small */
+	if (write(in->wake_fd, &one, sizeof(one)) < 0) {
+		/* nothing to do: the consumer also wakes on its own every POLL_MAX_MS */
+	}
+}
+
+static void mark_stale(struct hl_can_input *in, uint32_t mask, int64_t t_ns)
+{
+	if (!mask)
+		return;
+	for (int l = 0; l < hl_assembler_n_lamps(in->a); l++)
+		if (mask & (1u << l))
+			in->snap->lamps[l].status |= HL_LAMP_STALE;
+	push(in, t_ns);
+}
+
+static void take_cycle(struct hl_can_input *in, const struct hl_cycle *c,
+		       const struct hl_asm_events *ev, int64_t t_event_ns)
+{
+	struct hl_lamp_snapshot *ls = &in->snap->lamps[c->lamp];
+
+	memcpy(in->snap->i + (size_t)c->lamp * in->snap->n_sources, c->i,
+	       sizeof(float) * c->n_sources);
+	ls->cycle_seq = c->seq;
+	ls->counter = (uint8_t)c->counter;
+	ls->t_rx_first_ns = c->t_rx_first_ns;
+	ls->t_complete_ns = hl_monotonic_ns();
+	ls->status = HL_LAMP_VALID;
+	(void)ev; /* a recovery shows as the STALE bit going away */
+	push(in, t_event_ns);
+}
+
+static void feed(struct hl_can_input *in, const struct canfd_frame *f, int64_t t_rx_ns,
+		 int64_t now_ns)
+{
+	struct hl_asm_events ev;
+	struct hl_cycle c;
+	const int done = hl_assembler_feed(in->a, f, t_rx_ns, now_ns, &c, &ev);
+
+	mark_stale(in, ev.stale, now_ns);
+	if (done == 1)
+		take_cycle(in, &c, &ev, now_ns);
+}
+
+static void run_replay(struct hl_can_input *in)
+{
+	const int64_t base_ns = hl_monotonic_ns();
+
+	while (!atomic_load(&in->stop)) {
+		struct hl_candump_log_error err;
+		struct hl_candump_log_stats st;
+		struct hl_candump_frame f;
+		int64_t due_ns, d;
+		int rc = hl_candump_log_next(in->log, &f, &due_ns, &err);
+
+		if (rc == -EBADMSG) {
+			hl_candump_log_stats(in->log, &st);
+			if (st.malformed <= MALFORMED_LOGGED)
+				fprintf(in->cfg.log,
+					"hdlampd: '%s':%ld:%d: malformed candump line: %s%s\n",
+					in->cfg.replay, err.line, err.column, err.msg,
+					st.malformed == MALFORMED_LOGGED ?
+						" (further ones only counted)" :
+						"");
+			continue;
+		}
+		if (rc <= 0) {
+			if (rc < 0)
+				fprintf(in->cfg.log, "hdlampd: '%s': %s\n", in->cfg.replay,
+					strerror(-rc));
+			break;
+		}
+		/* lamps whose timeout falls before this frame go stale at their deadline */
+		while ((d = hl_assembler_next_deadline(in->a)) <= due_ns) {
+			if (!in->cfg.replay_fast)
+				hl_sleep_until(base_ns + d, NULL);
+			mark_stale(in, hl_assembler_expire(in->a, d), d);
+		}
+		if (!in->cfg.replay_fast)
+			hl_sleep_until(base_ns + due_ns, NULL);
+		feed(in, &f.frame, f.t_us * 1000, due_ns);
+	}
+	in->snap->status |= HL_INPUT_DONE;
+	push(in, hl_monotonic_ns());
+}
+
+static void link_change(struct hl_can_input *in, int err)
+{
+	const bool up = err == 0;
+
+	if (up == ((in->snap->status & HL_INPUT_LINK_UP) != 0) && in->snap->link_errno == err)
+		return;
+	in->snap->status = up ? (in->snap->status | HL_INPUT_LINK_UP) :
+				(in->snap->status & ~HL_INPUT_LINK_UP);
+	in->snap->link_errno = err;
+	push(in, hl_monotonic_ns());
+}
+
+/* Waits up to ms for the stop flag, expiring lamps on the way. */
+static void idle(struct hl_can_input *in, int ms)
+{
+	const int64_t until = hl_monotonic_ns() + (int64_t)ms * 1000000;
+
+	while (!atomic_load(&in->stop)) {
+		const int64_t now = hl_monotonic_ns();
+		int64_t wake = hl_assembler_next_deadline(in->a);
+
+		mark_stale(in, hl_assembler_expire(in->a, now), now);
+		if (now >= until)
+			return;
+		if (wake > until)
+			wake = until;
+		if (wake > now + (int64_t)POLL_MAX_MS * 1000000)
+			wake = now + (int64_t)POLL_MAX_MS * 1000000;
+		hl_sleep_until(wake, NULL);
+	}
+}
+
+static void run_socket(struct hl_can_input *in)
+{
+	struct hl_can_socket_stats st;
+
+	while (!atomic_load(&in->stop)) {
+		struct pollfd pfd;
+		int64_t now, deadline;
+		int timeout_ms, rc;
+
+		if (hl_can_socket_fd(in->sock) < 0) {
+			rc = hl_can_socket_open(in->sock);
+			link_change(in, -rc);
+			if (rc < 0) {
+				idle(in, hl_can_socket_retry_ms(in->sock));
+				continue;
+			}
+		}
+		now = hl_monotonic_ns();
+		deadline = hl_assembler_next_deadline(in->a);
+		timeout_ms = POLL_MAX_MS;
+		if (deadline != INT64_MAX && (deadline - now) / 1000000 + 1 < timeout_ms)
+			timeout_ms = deadline <= now ? 0 : (int)((deadline - now) / 1000000 + 1);
+		pfd = (struct pollfd){ .fd = hl_can_socket_fd(in->sock), .events = POLLIN };
+		poll(&pfd, 1, timeout_ms);
+		now = hl_monotonic_ns();
+		mark_stale(in, hl_assembler_expire(in->a, now), now);
+		for (int n = 0; n < READ_BATCH; n++) {
+			struct hl_can_rx rx;
+
+			rc = hl_can_socket_read(in->sock, &rx);
+			if (rc <= 0)
+				break;
+			now = hl_monotonic_ns();
+			feed(in, &rx.frame, rx.t_rx_ns, now);
+			if (rx.error) {
+				hl_can_socket_stats(in->sock, &st);
+				if (st.bus != in->snap->bus) {
+					in->snap->bus = st.bus;
+					push(in, now);
+				}
+			}
+		}
+		if (rc < 0)
+			link_change(in, -rc); /* closed: reopened on the next turn */
+	}
+}
+
+static void *thread_main(void *arg)
+{
+	struct hl_can_input *in = arg;
+
+	if (in->log)
+		run_replay(in);
+	else
+		run_socket(in);
+	return NULL;
+}
+
+int hl_can_input_start(struct hl_can_input *in)
+{
+	int rc = pthread_create(&in->thread, NULL, thread_main, in);
+
+	if (rc)
+		return -rc;
+	in->started = true;
+	return 0;
+}
+
+void hl_can_input_stop(struct hl_can_input *in)
+{
+	if (!in->started)
+		return;
+	atomic_store(&in->stop, 1);
+	pthread_join(in->thread, NULL);
+	in->started = false;
+}
+
+void hl_can_input_report(const struct hl_can_input *in, FILE *f)
+{
+	const struct hl_asm_counters *c = hl_assembler_counters(in->a);
+
+	fprintf(f,
+		"\"frames\":{\"decoded\":%" PRIu64 ",\"unknown_id\":%" PRIu64 ",\"short\":%" PRIu64
+		",\"other\":%" PRIu64 ",\"error_frames\":%" PRIu64 "}",
+		c->dbc.decoded, c->dbc.unknown_id, c->dbc.short_frame, c->other_frames,
+		c->error_frames);
+	if (in->log) {
+		struct hl_candump_log_stats st;
+
+		hl_candump_log_stats(in->log, &st);
+		fprintf(f,
+			",\"log\":{\"lines\":%" PRIu64 ",\"frames\":%" PRIu64
+			",\"malformed\":%" PRIu64 ",\"passes\":%" PRIu64 "}",
+			st.lines, st.frames, st.malformed, st.passes);
+	}
+	if (in->sock) {
+		struct hl_can_socket_stats st;
+
+		hl_can_socket_stats(in->sock, &st);
+		fprintf(f,
+			",\"socket\":{\"iface\":\"%s\",\"fd\":%s,\"bus\":\"%s\",\"frames\":%" PRIu64
+			",\"fd_frames\":%" PRIu64 ",\"error_frames\":%" PRIu64
+			",\"kernel_drops\":%" PRIu64 ",\"bus_off\":%" PRIu64
+			",\"restarts\":%" PRIu64 ",\"opens\":%" PRIu64 ",\"closes\":%" PRIu64 "}",
+			hl_can_socket_ifname(in->sock), st.fd_enabled ? "true" : "false",
+			hl_can_bus_state_name(st.bus), st.frames, st.fd_frames, st.error_frames,
+			st.kernel_drops, st.bus_off, st.restarts, st.opens, st.closes);
+	}
+}

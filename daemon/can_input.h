@@ -1,0 +1,53 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The CAN thread (DESIGN.md §2): receives frames from a SocketCAN interface or a candump log,
+ * assembles lamp cycles and pushes a snapshot into the ring for every complete cycle and every
+ * status change (stale, recovered, bus state, interface down/up). On a live bus it never
+ * waits for the consumer; a --fast replay (no bus to keep up with) waits for free slots
+ * rather than overrun them.
+ *
+ * Timeouts run on CLOCK_MONOTONIC for a live bus and on the log's own timeline for a replay,
+ * so a replay reports the same cycles and the same stale times at any speed.
+ *
+ * Thread-safety: hl_can_input_start/stop from the main thread; everything else runs on the
+ * CAN thread. hl_can_input_report may be called after stop (or from the CAN thread).
+ */
+#ifndef HL_DAEMON_CAN_INPUT_H
+#define HL_DAEMON_CAN_INPUT_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "can/assembler.h"
+#include "daemon/ring.h"
+
+/* Global status bits of a snapshot (hl_snapshot.status). */
+#define HL_INPUT_LINK_UP 0x1u /* the interface is open (always set for a replay) */
+#define HL_INPUT_DONE 0x2u /* the replay reached its end: the last snapshot */
+
+struct hl_can_input_config {
+	const char *iface; /* either this ... */
+	const char *replay; /* ... or a candump log ("-" for stdin) */
+	bool replay_fast; /* as fast as possible instead of the log's timing */
+	bool replay_loop;
+	FILE *log; /* where the thread logs rare events (malformed log lines), e.g. stderr */
+};
+
+struct hl_can_input;
+
+/* Opens the log (not the interface: that is retried by the thread). 0 or -errno. */
+int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler *a,
+		     struct hl_ring *ring, struct hl_can_input **ret);
+void hl_can_input_free(struct hl_can_input *in);
+
+int hl_can_input_start(struct hl_can_input *in);
+/* Asks the thread to stop and joins it. */
+void hl_can_input_stop(struct hl_can_input *in);
+
+/* An eventfd that becomes readable after every push (read it to reset). */
+int hl_can_input_wake_fd(const struct hl_can_input *in);
+
+/* Writes the input's counters as a JSON object's members (no braces). */
+void hl_can_input_report(const struct hl_can_input *in, FILE *f);
+
+#endif

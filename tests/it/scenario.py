@@ -1,0 +1,69 @@
+"""Helpers for the drive scenario: generate it, run hdlampd on it, compare with expectations."""
+import json
+import os
+import subprocess
+
+from conftest import run
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE_DIR = os.environ.get("HL_SOURCE_DIR", os.path.join(HERE, "..", ".."))
+BUILD_DIR = os.environ.get("HL_BUILD_DIR", os.path.join(SOURCE_DIR, "build"))
+HDLAMPD = os.path.join(BUILD_DIR, "daemon", "hdlampd")
+
+
+def dbc_path(name):
+    return os.path.join(SOURCE_DIR, "dbc", name)
+
+
+def generate(hdlamp, dbc, out_dir, phase=25, iface="can0"):
+    log = os.path.join(out_dir, "scenario.log")
+    expect = os.path.join(out_dir, "scenario.expect.jsonl")
+    run(hdlamp, "scenario", "--dbc", dbc, "--out", log, "--expect", expect,
+        "--phase-cycles", str(phase), "--iface", iface)
+    cycles = {"left": [], "right": []}
+    counters = None
+    with open(expect) as f:
+        for line in f:
+            obj = json.loads(line)
+            if obj.get("expect") == "counters":
+                counters = obj
+            else:
+                cycles[obj["lamp"]].append((obj["counter"], obj["dims"]))
+    return log, cycles, counters
+
+
+def parse_output(text):
+    """hdlampd's JSON lines: cycles per lamp, events in order, the summary."""
+    cycles = {}
+    events, summary = [], None
+    for line in text.splitlines():
+        obj = json.loads(line)
+        if "lamp" in obj and "i" in obj:
+            dims = [round(v * 63) for v in obj["i"]]
+            assert all(abs(v * 63 - round(v * 63)) < 1e-4 for v in obj["i"]), obj
+            cycles.setdefault(obj["lamp"], []).append((obj["counter"], dims, obj))
+        elif obj.get("event") == "summary":
+            summary = obj
+        else:
+            events.append(obj)
+    return cycles, events, summary
+
+
+def check_against_expectation(cycles, summary, expect_cycles, expect_counters):
+    for lamp in ("left", "right"):
+        got = [(c, d) for c, d, _ in cycles.get(lamp, [])]
+        assert len(got) == len(expect_cycles[lamp]), (lamp, len(got), len(expect_cycles[lamp]))
+        for n, (g, e) in enumerate(zip(got, expect_cycles[lamp])):
+            assert g == e, f"{lamp} cycle {n}: got counter {g[0]}, expected {e[0]}"
+        seqs = [o["seq"] for _, _, o in cycles[lamp]]
+        assert seqs == list(range(1, len(seqs) + 1))
+        want = expect_counters[lamp]
+        have = summary["lamps"][lamp]
+        for key, value in want.items():
+            assert have[key] == value, (lamp, key, have[key], value)
+        assert have["repeated_frames"] == 0 and have["out_of_range"] == 0
+
+
+def hdlampd(*args, **kw):
+    return subprocess.run([HDLAMPD, *[str(a) for a in args]], capture_output=True, text=True,
+                          **kw)

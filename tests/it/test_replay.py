@@ -1,0 +1,99 @@
+"""hdlampd --replay on the host: exact cycles and fault counters of the drive scenario."""
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+
+from scenario import (HDLAMPD, check_against_expectation, dbc_path, generate, hdlampd,
+                      parse_output)
+
+
+@pytest.mark.parametrize("dbc", ["hd84.dbc", "hd84_fd.dbc"])
+def test_fast_replay_reports_exactly_the_scenario(hdlamp, tmp_path, dbc):
+    log, expect, counters = generate(hdlamp, dbc_path(dbc), tmp_path)
+    r = hdlampd("--replay", log, "--fast", "--dbc", dbc_path(dbc), "--no-render",
+                "--print-cycles")
+    assert r.returncode == 0, r.stderr
+    cycles, events, summary = parse_output(r.stdout)
+    check_against_expectation(cycles, summary, expect, counters)
+    assert summary["ring"]["dropped"] == 0 and summary["ring"]["superseded"] == 0
+    assert summary["frames"]["unknown_id"] == 0 and summary["frames"]["short"] == 0
+
+    # Stale exactly timeout_ms after each lamp's last cycle before the silence (log time),
+    # recovered with the first cycle after it.
+    kinds = [(e["event"], e["lamp"]) for e in events]
+    assert kinds == [("stale", "left"), ("stale", "right"), ("recovered", "left"),
+                     ("recovered", "right")]
+    for lamp in ("left", "right"):
+        stale = next(e for e in events if e == {**e, "event": "stale", "lamp": lamp})
+        before = [o for _, _, o in cycles[lamp] if o["t_rx_ns"] < 1700000000e9 + stale["t_ns"]]
+        last_rx = before[-1]["t_rx_ns"] - 1700000000 * 10**9
+        # the cycle completes with its last frame: first frame + 11 (22 for FD: 1) frame gaps
+        assert 100e6 <= stale["t_ns"] - last_rx <= 100e6 + 20e6
+
+
+def test_realtime_replay_gives_the_same_cycles_as_fast(hdlamp, tmp_path):
+    log, expect, counters = generate(hdlamp, dbc_path("hd84.dbc"), tmp_path, phase=4)
+    t0 = time.monotonic()
+    slow = hdlampd("--replay", log, "--dbc", dbc_path("hd84.dbc"), "--no-render",
+                   "--print-cycles")
+    took = time.monotonic() - t0
+    fast = hdlampd("--replay", log, "--fast", "--dbc", dbc_path("hd84.dbc"), "--no-render",
+                   "--print-cycles")
+    assert slow.returncode == 0 and fast.returncode == 0
+    # the log spans (6 phases x 4 + 6 fault cycles) x 20 ms + 300 ms of silence
+    span = (6 * 4 + 6) * 0.020 + 0.300
+    assert span - 0.02 <= took <= span + 0.5, took
+    c_slow, e_slow, s_slow = parse_output(slow.stdout)
+    c_fast, e_fast, s_fast = parse_output(fast.stdout)
+    for lamp in ("left", "right"):
+        assert [(c, d) for c, d, _ in c_slow[lamp]] == [(c, d) for c, d, _ in c_fast[lamp]]
+    assert e_slow == e_fast
+    check_against_expectation(c_slow, s_slow, expect, counters)
+
+
+def test_malformed_lines_are_reported_with_line_numbers_and_skipped(hdlamp, tmp_path):
+    log, expect, counters = generate(hdlamp, dbc_path("hd84.dbc"), tmp_path, phase=3)
+    lines = open(log).read().splitlines()
+    lines.insert(5, "(1700000000.001000) can0 32G#00")
+    lines.insert(10, "garbage")
+    bad = tmp_path / "bad.log"
+    bad.write_text("\n".join(lines) + "\n")
+    r = hdlampd("--replay", bad, "--fast", "--no-render", "--print-cycles",
+                "--dbc", dbc_path("hd84.dbc"))
+    assert r.returncode == 0
+    assert f"'{bad}':6:" in r.stderr and f"'{bad}':11:" in r.stderr
+    cycles, _, summary = parse_output(r.stdout)
+    assert summary["log"]["malformed"] == 2
+    check_against_expectation(cycles, summary, expect, counters)
+
+
+def test_sigterm_stops_a_looping_replay_promptly(hdlamp, tmp_path):
+    log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), tmp_path, phase=2)
+    p = subprocess.Popen([HDLAMPD, "--replay", log, "--loop", "--no-render", "--dbc",
+                          dbc_path("hd84.dbc")], stdout=subprocess.PIPE, text=True)
+    time.sleep(1.5)
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGTERM)
+    out, _ = p.communicate(timeout=5)
+    assert p.returncode == 0
+    assert time.monotonic() - t0 < 1.0
+    _, _, summary = parse_output(out)
+    assert summary["log"]["passes"] >= 2
+    assert summary["lamps"]["left"]["cycles"] > 0
+
+
+def test_usage_and_input_errors(tmp_path):
+    assert hdlampd("--replay", "x.log").returncode == 2  # no renderer in this build
+    assert hdlampd("--can", "vcan0", "--replay", "x.log", "--no-render").returncode == 2
+    r = hdlampd("--replay", tmp_path / "absent.log", "--no-render",
+                "--dbc", dbc_path("hd84.dbc"))
+    assert r.returncode == 1 and "absent.log': No such file or directory" in r.stderr
+    r = hdlampd("--replay", "-", "--no-render", "--dbc", tmp_path / "none.dbc")
+    assert r.returncode == 1 and "none.dbc'" in r.stderr
+    r = hdlampd("--replay", "-", "--no-render", "--dbc", dbc_path("hd84.dbc"),
+                "--lamps", "left")
+    assert r.returncode == 1
+    assert "HdlLamp \"right\" is not a configured lamp" in r.stderr

@@ -1,0 +1,277 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * hdlamp scenario: a drive as a candump -L log with correct E2E, for replay tests and demos:
+ * low beam, high beam, a glare-free window sweeping across, bend left and right, then injected
+ * faults (one CRC error, one missing page, one counter jump, 300 ms of silence) and low beam
+ * again. --expect writes what a correct receiver must report: every complete cycle of each lamp
+ * (counter and raw dimming values) and the fault counters.
+ */
+#include <errno.h>
+#include <getopt.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "can/assembler.h"
+#include "can/candump.h"
+#include "tools/commands.h"
+#include "tools/model.h"
+
+#define CYCLE_US 20000 /* ECU period, 50 Hz */
+#define FRAME_GAP_US 400 /* between frames of one cycle on the bus */
+#define SILENCE_US 300000
+
+enum fault {
+	FAULT_NONE,
+	FAULT_CRC, /* one frame's payload corrupted after protection */
+	FAULT_MISSING, /* one frame never sent */
+	FAULT_JUMP, /* the counter skips two values */
+};
+
+struct gen {
+	struct hl_assembler *a;
+	FILE *log, *expect;
+	const char *iface;
+	int64_t t_us;
+	unsigned counter[2];
+	uint64_t cycles[2];
+	struct hl_encoded_frame frames[2][HL_ASM_MAX_PARTS];
+};
+
+static void usage(FILE *f)
+{
+	fprintf(f,
+		"usage: hdlamp scenario --dbc FILE --out LOG [--expect FILE] [--iface NAME]\n"
+		"                       [--phase-cycles N] [--start SECONDS]\n"
+		"\n"
+		"Writes the drive scenario for the HD84 lamps (sources 1..95 of lamps 'left' and\n"
+		"'right' in the DBC) as a candump -L log: N cycles (default 25) each of low beam,\n"
+		"high beam, 2N of a glare-free window sweeping H -20..+20, N bend left, N bend\n"
+		"right, then the faults - a CRC error (left), a missing page (right), a counter\n"
+		"jump by 3 (left), 300 ms of silence - and N cycles of low beam. --expect writes\n"
+		"JSON lines: every complete cycle per lamp, then the expected counters.\n");
+}
+
+static void write_frame(struct gen *g, const struct hl_encoded_frame *e)
+{
+	struct hl_candump_frame f = { .t_us = g->t_us, .fd = e->fd, .frame = e->frame };
+	char line[HL_CANDUMP_MAX_LINE];
+
+	snprintf(f.iface, sizeof(f.iface), "%s", g->iface);
+	if (f.fd)
+		f.frame.flags = CANFD_BRS;
+	if (hl_candump_format(&f, line, sizeof(line)) > 0)
+		fprintf(g->log, "%s\n", line);
+}
+
+/* One ECU period: both lamps' frames interleaved, with an optional fault on one lamp. */
+static int cycle(struct gen *g, const struct hl_preset *p, int fault_lamp, enum fault fault)
+{
+	const int64_t t0 = g->t_us;
+	int n[2];
+
+	for (int l = 0; l < 2; l++) {
+		float i[HL_HD84_SOURCES];
+		const unsigned max = hl_assembler_counter_max(g->a, l);
+
+		if (l == fault_lamp && fault == FAULT_JUMP)
+			g->counter[l] = (g->counter[l] + 2) % (max + 1);
+		hl_preset_intensities(p, l, i);
+		n[l] = hl_assembler_encode(g->a, l, i, g->counter[l], g->frames[l],
+					   HL_ASM_MAX_PARTS);
+		if (n[l] < 0)
+			return n[l];
+		if (l == fault_lamp && fault == FAULT_CRC)
+			g->frames[l][n[l] > 3 ? 3 : 0].frame.data[5] ^= 0x04;
+		if (l != fault_lamp || (fault != FAULT_CRC && fault != FAULT_MISSING)) {
+			g->cycles[l]++;
+			if (g->expect) {
+				fprintf(g->expect, "{\"lamp\":\"%s\",\"counter\":%u,\"dims\":[",
+					hl_assembler_lamp_name(g->a, l), g->counter[l]);
+				for (int k = 0; k < HL_HD84_SOURCES; k++)
+					fprintf(g->expect, "%s%u", k ? "," : "", p->dim[l][k]);
+				fprintf(g->expect, "]}\n");
+			}
+		}
+		g->counter[l] = (g->counter[l] + 1) % (max + 1);
+	}
+	for (int j = 0; j < n[0] || j < n[1]; j++) {
+		for (int l = 0; l < 2; l++) {
+			if (j >= n[l])
+				continue;
+			if (l == fault_lamp && fault == FAULT_MISSING && j == (n[l] > 7 ? 7 : 0))
+				continue;
+			write_frame(g, &g->frames[l][j]);
+			g->t_us += FRAME_GAP_US;
+		}
+	}
+	g->t_us = t0 + CYCLE_US;
+	return 0;
+}
+
+static int run(struct gen *g, int phase)
+{
+	struct hl_lid *lamps[2] = { NULL, NULL };
+	struct hl_preset *p = NULL;
+	int rc;
+
+	for (int s = 0; s < 2; s++) {
+		rc = hl_model_hd84(s, &lamps[s]);
+		if (rc < 0)
+			goto out;
+	}
+	rc = hl_preset_new(HL_HD84_SOURCES, &p);
+	if (rc < 0)
+		goto out;
+	hl_model_hd84_preset("low", lamps, p);
+	for (int c = 0; c < phase && rc == 0; c++)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	hl_model_hd84_preset("high", lamps, p);
+	for (int c = 0; c < phase && rc == 0; c++)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	for (int c = 0; c < 2 * phase && rc == 0; c++) {
+		const float centre = -20.0f + 40.0f * c / (2 * phase - 1);
+
+		hl_model_hd84_glarefree(lamps, centre - 2.0f, centre + 2.0f, p);
+		rc = cycle(g, p, -1, FAULT_NONE);
+	}
+	hl_model_hd84_preset("bend_left", lamps, p);
+	for (int c = 0; c < phase && rc == 0; c++)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	hl_model_hd84_preset("bend_right", lamps, p);
+	for (int c = 0; c < phase && rc == 0; c++)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	hl_model_hd84_preset("low", lamps, p);
+	if (rc == 0)
+		rc = cycle(g, p, 0, FAULT_CRC);
+	if (rc == 0)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	if (rc == 0)
+		rc = cycle(g, p, 1, FAULT_MISSING);
+	if (rc == 0)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	if (rc == 0)
+		rc = cycle(g, p, 0, FAULT_JUMP);
+	if (rc == 0)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	g->t_us += SILENCE_US;
+	for (int c = 0; c < phase && rc == 0; c++)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	if (rc == 0 && g->expect)
+		fprintf(g->expect,
+			"{\"expect\":\"counters\",\"silence_ms\":%d,"
+			"\"left\":{\"cycles\":%" PRIu64 ",\"crc_errors\":1,\"incomplete\":1,"
+			"\"lost_cycles\":2,\"stale_events\":1,\"recoveries\":1},"
+			"\"right\":{\"cycles\":%" PRIu64 ",\"crc_errors\":0,\"incomplete\":1,"
+			"\"lost_cycles\":0,\"stale_events\":1,\"recoveries\":1}}\n",
+			SILENCE_US / 1000, g->cycles[0], g->cycles[1]);
+out:
+	hl_preset_free(p);
+	hl_lid_free(lamps[0]);
+	hl_lid_free(lamps[1]);
+	return rc;
+}
+
+int hl_cmd_scenario(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{ "dbc", required_argument, NULL, 'd' },
+		{ "out", required_argument, NULL, 'o' },
+		{ "expect", required_argument, NULL, 'e' },
+		{ "iface", required_argument, NULL, 'i' },
+		{ "phase-cycles", required_argument, NULL, 'n' },
+		{ "start", required_argument, NULL, 's' },
+		{ "help", no_argument, NULL, 'h' },
+		{ NULL, 0, NULL, 0 },
+	};
+	static const char *const names[2] = { "left", "right" };
+	const char *dbc_path = NULL, *out = NULL, *expect = NULL;
+	struct gen g = { .iface = "can0", .t_us = 1700000000000000LL };
+	struct hl_dbc *db = NULL;
+	struct hl_dbc_error derr;
+	struct hl_asm_error aerr;
+	int phase = 25, c, rc = HL_EXIT_FAIL;
+	char *end;
+
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:h", opts, NULL)) != -1) {
+		switch (c) {
+		case 'd':
+			dbc_path = optarg;
+			break;
+		case 'o':
+			out = optarg;
+			break;
+		case 'e':
+			expect = optarg;
+			break;
+		case 'i':
+			g.iface = optarg;
+			break;
+		case 'n':
+			phase = (int)strtol(optarg, &end, 10);
+			if (*end || phase < 1 || phase > 10000) {
+				fprintf(stderr,
+					"hdlamp scenario: --phase-cycles '%s': expected 1..10000\n",
+					optarg);
+				return HL_EXIT_USAGE;
+			}
+			break;
+		case 's':
+			g.t_us = (int64_t)(strtod(optarg, &end) * 1e6);
+			if (*end || g.t_us <= 0) {
+				fprintf(stderr,
+					"hdlamp scenario: --start '%s': expected seconds > 0\n",
+					optarg);
+				return HL_EXIT_USAGE;
+			}
+			break;
+		case 'h':
+			usage(stdout);
+			return HL_EXIT_OK;
+		default:
+			usage(stderr);
+			return HL_EXIT_USAGE;
+		}
+	}
+	if (!dbc_path || !out || optind != argc || strlen(g.iface) >= IFNAMSIZ) {
+		usage(stderr);
+		return HL_EXIT_USAGE;
+	}
+	if (hl_dbc_parse_file(dbc_path, &db, &derr) < 0) {
+		fprintf(stderr, "hdlamp scenario: '%s':%d:%d: %s\n", dbc_path, derr.line,
+			derr.column, derr.msg);
+		return HL_EXIT_FAIL;
+	}
+	if (hl_assembler_new(db, names, 2, 100, 0, &g.a, &aerr) < 0) {
+		fprintf(stderr, "hdlamp scenario: '%s': %s\n", dbc_path, aerr.msg);
+		goto out;
+	}
+	if (hl_assembler_n_sources(g.a, 0) != HL_HD84_SOURCES ||
+	    hl_assembler_n_sources(g.a, 1) != HL_HD84_SOURCES) {
+		fprintf(stderr,
+			"hdlamp scenario: '%s': the HD84 scenario needs 95 sources per lamp\n",
+			dbc_path);
+		goto out;
+	}
+	g.log = fopen(out, "we");
+	if (!g.log || (expect && !(g.expect = fopen(expect, "we")))) {
+		fprintf(stderr, "hdlamp scenario: cannot create '%s': %s\n", g.log ? expect : out,
+			strerror(errno));
+		goto out;
+	}
+	if (run(&g, phase) < 0) {
+		fprintf(stderr, "hdlamp scenario: '%s' cannot carry the presets\n", dbc_path);
+		goto out;
+	}
+	rc = HL_EXIT_OK;
+out:
+	if (g.log && fclose(g.log) != 0)
+		rc = HL_EXIT_FAIL;
+	if (g.expect && fclose(g.expect) != 0)
+		rc = HL_EXIT_FAIL;
+	hl_assembler_free(g.a);
+	hl_dbc_free(db);
+	return rc;
+}
