@@ -24,10 +24,12 @@ def peer(*args):
 
 
 class Lines:
-    """The JSON lines a peer prints, read by a thread so that waits can time out."""
+    """The lines a process prints (JSON, or text with parse=str), read by a thread so that
+    waits can time out."""
 
-    def __init__(self, proc):
+    def __init__(self, proc, parse=json.loads):
         self.proc = proc
+        self.parse = parse
         self.q = queue.Queue()
         threading.Thread(target=self._read, daemon=True).start()
 
@@ -40,6 +42,6 @@ class Lines:
         try:
             line = self.q.get(timeout=timeout)
         except queue.Empty:
-            raise AssertionError(f"peer printed nothing for {timeout} s") from None
-        assert line is not None, f"peer exited ({self.proc.wait()}) before printing more"
-        return line if line == "ready" else json.loads(line)
+            raise AssertionError(f"{self.proc.args[0]} printed nothing for {timeout} s") from None
+        assert line is not None, f"{self.proc.args[0]} exited ({self.proc.wait()}) early"
+        return line if line == "ready" else self.parse(line)
