@@ -17,7 +17,7 @@
 
 #define MAX_IDS 512
 #define RETRY_MIN_MS 50
-#define RETRY_MAX_MS 1000
+#define RETRY_MAX_MS 250
 
 struct hl_can_socket {
 	char ifname[IFNAMSIZ];

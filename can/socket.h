@@ -64,7 +64,8 @@ void hl_can_socket_free(struct hl_can_socket *s);
 int hl_can_socket_open(struct hl_can_socket *s);
 /* The socket's fd for poll(), -1 while closed. */
 int hl_can_socket_fd(const struct hl_can_socket *s);
-/* Milliseconds to wait before the next open attempt: 50 ms doubling to 1 s; reset on success. */
+/* Milliseconds to wait before the next open attempt: 50 ms doubling to 250 ms (so a replugged
+ * adapter is back well within a second); reset on success. */
 int hl_can_socket_retry_ms(struct hl_can_socket *s);
 
 /*

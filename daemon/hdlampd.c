@@ -54,7 +54,7 @@ static void usage(FILE *f)
 		"  --no-render        decode only (this build has no renderer yet)\n"
 		"  --print-cycles     one JSON line per complete lamp cycle\n"
 		"\n"
-		"Output (stdout, JSON lines): cycles {\"lamp\",\"seq\",\"counter\",\"t_rx_ns\",\"i\"},\n"
+		"Output (stdout, JSON lines): cycles {\"lamp\",\"seq\",\"counter\",\"t_rx_ns\",\"t_done_ns\",\"i\"},\n"
 		"status changes {\"event\":\"stale\"|\"recovered\"|\"bus\"|\"link\",...}, and at exit\n"
 		"{\"event\":\"summary\",...} with every counter. SIGINT/SIGTERM stop it (exit 0).\n");
 }
@@ -172,9 +172,9 @@ static void print_cycle(const struct hl_assembler *a, const struct hl_snapshot *
 	const float *i = s->i + (size_t)l * s->n_sources;
 
 	printf("{\"lamp\":\"%s\",\"seq\":%" PRIu64 ",\"counter\":%u,\"t_rx_ns\":%" PRId64
-	       ",\"i\":[",
+	       ",\"t_done_ns\":%" PRId64 ",\"i\":[",
 	       hl_assembler_lamp_name(a, l), s->lamps[l].cycle_seq, s->lamps[l].counter,
-	       s->lamps[l].t_rx_first_ns);
+	       s->lamps[l].t_rx_first_ns, s->lamps[l].t_complete_ns);
 	for (int k = 0; k < n; k++)
 		printf("%s%.9g", k ? "," : "", i[k]);
 	printf("]}\n");

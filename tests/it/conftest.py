@@ -22,9 +22,3 @@ def hd84(hdlamp, tmp_path_factory):
     subprocess.run([hdlamp, "model", "--out", str(out)], check=True, capture_output=True)
     return out
 
-
-def run(*args, ok=True):
-    r = subprocess.run([str(a) for a in args], capture_output=True, text=True)
-    if ok and r.returncode != 0:
-        raise AssertionError(f"{args} exited {r.returncode}: {r.stderr}")
-    return r

@@ -3,7 +3,7 @@ import json
 import os
 import subprocess
 
-from conftest import run
+from proc import run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE_DIR = os.environ.get("HL_SOURCE_DIR", os.path.join(HERE, "..", ".."))

@@ -1,7 +1,7 @@
 """hdlamp model / lid info / lid combine / lid plot, driven as a user would."""
 import re
 
-from conftest import run
+from proc import run
 from pngread import pixel, read_png
 
 

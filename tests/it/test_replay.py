@@ -59,6 +59,7 @@ def test_malformed_lines_are_reported_with_line_numbers_and_skipped(hdlamp, tmp_
     lines = open(log).read().splitlines()
     lines.insert(5, "(1700000000.001000) can0 32G#00")
     lines.insert(10, "garbage")
+    lines.insert(12, "(1700000000.001100) can0 7AB#0011223344556677")  # not in the DBC
     bad = tmp_path / "bad.log"
     bad.write_text("\n".join(lines) + "\n")
     r = hdlampd("--replay", bad, "--fast", "--no-render", "--print-cycles",
@@ -67,6 +68,7 @@ def test_malformed_lines_are_reported_with_line_numbers_and_skipped(hdlamp, tmp_
     assert f"'{bad}':6:" in r.stderr and f"'{bad}':11:" in r.stderr
     cycles, _, summary = parse_output(r.stdout)
     assert summary["log"]["malformed"] == 2
+    assert summary["frames"]["unknown_id"] == 1
     check_against_expectation(cycles, summary, expect, counters)
 
 
