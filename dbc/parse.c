@@ -720,7 +720,9 @@ static int parse_sg(struct parser *p, int sg_line)
 			return rc;
 		}
 	}
-	if (hl_dbc_signal_end_byte((int)start, (int)len, (enum hl_dbc_byte_order)order) > m->size) {
+	/* CANdb++ keeps unassigned signals in its never-sent 0-byte VECTOR__INDEPENDENT_SIG_MSG */
+	if (!m->independent &&
+	    hl_dbc_signal_end_byte((int)start, (int)len, (enum hl_dbc_byte_order)order) > m->size) {
 		free(recv);
 		return fail_at(
 			p, start_line, start_col,
