@@ -917,7 +917,7 @@ static int parse_ba_def(struct parser *p)
 	if (find_def(db, d.name) >= 0)
 		return fail_at(p, line, col, "attribute '%s' already defined", d.name);
 	if (is_word(p, "INT") || is_word(p, "HEX")) {
-		int64_t lo, hi;
+		int64_t lo = 0, hi = 0;
 
 		d.type = is_word(p, "INT") ? HL_DBC_ATTR_INT : HL_DBC_ATTR_HEX;
 		rc = next(p);
@@ -1201,7 +1201,7 @@ static int parse_sg_mul_val(struct parser *p, int kw_line, int kw_col)
 			       "SG_MUL_VAL_ for signal '%s' given twice (line %d)", s->name,
 			       db->where[mi][si].mul_line);
 	while (rc == 0 && !is_punct(p, ';')) {
-		uint64_t lo, hi;
+		uint64_t lo = 0, hi = 0;
 		int rl, rcol;
 
 		if (n > 0)
