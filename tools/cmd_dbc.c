@@ -252,34 +252,78 @@ static int info(const char *path)
 
 /* --- decode --- */
 
-/* The shortest %g that reads back as the same double. */
-static void put_double(FILE *out, double v)
+/* The shortest %g that reads back as the same double, into buf (32 bytes). */
+static void format_double(char *buf, double v)
 {
-	char buf[32];
-
 	if (!isfinite(v)) {
-		fputs("null", out);
+		strcpy(buf, "null");
 		return;
 	}
 	for (int prec = 15; prec <= 17; prec++) {
-		snprintf(buf, sizeof(buf), "%.*g", prec, v);
+		snprintf(buf, 32, "%.*g", prec, v);
 		if (strtod(buf, NULL) == v)
 			break;
 	}
-	fputs(buf, out);
 }
 
-static void put_value(FILE *out, const struct hl_dbc_signal *s, const struct hl_dbc_value *v)
+static void format_value(char *buf, const struct hl_dbc_signal *s, uint64_t raw, double phys)
 {
 	/* plain integers print exactly, also beyond 2^53 */
 	if (s->type == HL_DBC_INTEGER && s->factor == 1 && s->offset == 0) {
 		if (s->is_signed)
-			fprintf(out, "%lld", (long long)(int64_t)v->raw);
+			snprintf(buf, 32, "%lld", (long long)(int64_t)raw);
 		else
-			fprintf(out, "%llu", (unsigned long long)v->raw);
+			snprintf(buf, 32, "%llu", (unsigned long long)raw);
 		return;
 	}
-	put_double(out, v->phys);
+	format_double(buf, phys);
+}
+
+/*
+ * The text of every value of the integer signals of up to 8 bits (the dimming values): made
+ * once, so that decoding a log prints without formatting doubles. table[m][k] is NULL for
+ * other signals.
+ */
+typedef char value_text[32];
+
+static value_text **value_table_new(const struct hl_dbc *db)
+{
+	int n = hl_dbc_n_messages(db);
+	value_text **t = calloc(n + 1, sizeof(*t));
+
+	if (!t)
+		return NULL;
+	for (int i = 0; i < n; i++) {
+		const struct hl_dbc_message *m = hl_dbc_message(db, i);
+
+		t[i] = calloc((size_t)m->n_signals * 256 + 1, sizeof(value_text));
+		if (!t[i])
+			return t;
+		for (int k = 0; k < m->n_signals; k++) {
+			const struct hl_dbc_signal *s = &m->signals[k];
+
+			if (s->type != HL_DBC_INTEGER || s->length > 8)
+				continue;
+			for (uint64_t r = 0; r < ((uint64_t)1 << s->length); r++) {
+				uint64_t raw = r;
+
+				if (s->is_signed && (r >> (s->length - 1)))
+					raw = r | ~(((uint64_t)1 << s->length) - 1);
+				format_value(t[i][(size_t)k * 256 + r], s, raw,
+					     hl_dbc_signal_phys(s, raw));
+			}
+		}
+	}
+	return t;
+}
+
+static void value_table_free(const struct hl_dbc *db, value_text **t)
+{
+	if (!t)
+		return;
+	for (int i = 0; i < hl_dbc_n_messages(db); i++)
+		free(t[i]);
+	free(t);
 }
 
 struct e2e_state {
@@ -371,6 +415,7 @@ static int decode(const char *dbc_path, const char *log_path)
 	struct hl_dbc_counters counters = { 0 };
 	struct hl_dbc_value *vals = NULL;
 	struct e2e_state *st = NULL;
+	value_text **texts = NULL;
 	FILE *in = stdin, *out = stdout;
 	char *line = NULL;
 	size_t cap = 0;
@@ -383,8 +428,16 @@ static int decode(const char *dbc_path, const char *log_path)
 	if (e2e_configs(db, dbc_path, &st) < 0)
 		goto out;
 	vals = malloc(sizeof(*vals) * (hl_dbc_max_signals(db) + 1));
-	if (!vals)
+	texts = value_table_new(db);
+	if (!vals || !texts) {
+		fprintf(stderr, "hdlamp dbc: out of memory\n");
 		goto out;
+	}
+	for (int i = 0; i < hl_dbc_n_messages(db); i++)
+		if (!texts[i]) {
+			fprintf(stderr, "hdlamp dbc: out of memory\n");
+			goto out;
+		}
 	if (strcmp(log_path, "-") != 0) {
 		in = fopen(log_path, "re");
 		if (!in) {
@@ -398,7 +451,7 @@ static int decode(const char *dbc_path, const char *log_path)
 		struct hl_candump_error err;
 		const struct hl_dbc_message *m;
 		uint32_t id;
-		int nv;
+		int nv, mi;
 
 		lineno++;
 		if (n == 0 || line[0] == '\n' || (line[0] == '\r' && line[1] == '\n'))
@@ -424,6 +477,7 @@ static int decode(const char *dbc_path, const char *log_path)
 			fputs(",\"name\":null}\n", out);
 			continue;
 		}
+		mi = (int)(m - hl_dbc_message(db, 0));
 		fprintf(out, ",\"name\":\"%s\"", m->name);
 		if (nv < 0) {
 			fprintf(out, ",\"error\":\"short frame: %u of %d bytes\"}\n", f.frame.len,
@@ -443,11 +497,23 @@ static int decode(const char *dbc_path, const char *log_path)
 		for (int i = 0; i < nv; i++) {
 			const struct hl_dbc_signal *s = &m->signals[vals[i].signal];
 
-			fprintf(out, "%s\"%s\":", i ? "," : "", s->name);
-			put_value(out, s, &vals[i]);
+			char buf[32];
+			const char *text = buf;
+
+			if (i)
+				putc(',', out);
+			putc('"', out);
+			fputs(s->name, out);
+			fputs("\":", out);
+			if (s->type == HL_DBC_INTEGER && s->length <= 8)
+				text = texts[mi][(size_t)vals[i].signal * 256 +
+						 (vals[i].raw & ((1u << s->length) - 1))];
+			else
+				format_value(buf, s, vals[i].raw, vals[i].phys);
+			fputs(text, out);
 		}
 		putc('}', out);
-		put_e2e(out, &st[m - hl_dbc_message(db, 0)], f.frame.data, f.frame.len);
+		put_e2e(out, &st[mi], f.frame.data, f.frame.len);
 		fputs("}\n", out);
 	}
 	if (ferror(in)) {
@@ -470,6 +536,7 @@ out:
 		fclose(in);
 	free(line);
 	free(vals);
+	value_table_free(db, texts);
 	free(st);
 	hl_dbc_free(db);
 	return rc;
