@@ -292,6 +292,26 @@ static void dbc_parse_shipped_databases(void **state)
 	}
 }
 
+static void dbc_parse_bom_fraction_and_last_attribute_wins(void **state)
+{
+	struct hl_dbc *db = parse("\xef\xbb\xbf"
+				  "BO_ 1 A: 8 E\n"
+				  " SG_ S : 0|8@1+ (.5,-.25) [0|1E2] \"\" X\n"
+				  "BA_DEF_ BO_ \"T\" INT 0 100;\n"
+				  "BA_ \"T\" BO_ 1 10;\n"
+				  "BA_ \"T\" BO_ 1 20;\n");
+	const struct hl_dbc_message *m = hl_dbc_message(db, 0);
+	struct hl_dbc_attr_value v;
+
+	(void)state;
+	assert_true(m->signals[0].factor == 0.5);
+	assert_true(m->signals[0].offset == -0.25);
+	assert_true(m->signals[0].max == 100);
+	assert_int_equal(hl_dbc_message_attr(db, m, "T", &v), 0);
+	assert_int_equal(v.i, 20);
+	hl_dbc_free(db);
+}
+
 static void dbc_parse_file_missing(void **state)
 {
 	struct hl_dbc *db = NULL;
@@ -504,6 +524,7 @@ int main(void)
 		cmocka_unit_test(dbc_parse_every_section),
 		cmocka_unit_test(dbc_parse_attributes),
 		cmocka_unit_test(dbc_parse_shipped_databases),
+		cmocka_unit_test(dbc_parse_bom_fraction_and_last_attribute_wins),
 		cmocka_unit_test(dbc_parse_file_missing),
 		cmocka_unit_test(dbc_parse_errors_line_column_message),
 		cmocka_unit_test(dbc_parse_nul_byte),
