@@ -485,6 +485,43 @@ static const struct bad bads[] = {
 	  "expected the value type 0 (integer), 1 (float) or 2 (double), found 3 (above 2)" },
 	{ BO SG(": 0|32@1+ (1,0) [0|1]") "SIG_VALTYPE_ 1 S 1;\n", 3, 18,
 	  "expected ':' after the signal name, found number 1" },
+	/* every other "expected" of the grammar */
+	{ "BU_ A\n", 1, 5, "expected ':' after BU_, found 'A'" },
+	{ "VAL_TABLE_ 5 ;\n", 1, 12, "expected the value table's name, found number 5" },
+	{ BO "BO_TX_BU_ 1 A;\n", 2, 13, "expected ':' after the message ID, found 'A'" },
+	{ BO "BO_TX_BU_ 1 : 5;\n", 2, 15, "expected a transmitting node, found number 5" },
+	{ "BA_DEF_ BO_ \"X\" INT 0 10;\nBA_DEF_DEF_ \"X\" 1 2;\n", 2, 19,
+	  "expected ';' after the default value, found number 2" },
+	{ BO SG(": 0|32@1+ (1,0) [0|1]") "SIG_VALTYPE_ 1 S : 1 x;\n", 3, 22,
+	  "expected ';' after the value type, found 'x'" },
+	{ BO "BA_DEF_ BO_ \"X\" ENUM \"a\";\nBA_ \"X\" BO_ 1 x;\n", 3, 15,
+	  "expected an enum index or label, found 'x'" },
+	{ "BA_DEF_ BO_ \"X\" INT x 1;\n", 1, 21, "expected the attribute's minimum, found 'x'" },
+	{ "BA_DEF_ BO_ \"X\" INT 0 ;\n", 1, 23, "expected the attribute's maximum, found ';'" },
+	{ "BA_DEF_ BO_ \"X\" FLOAT x 1;\n", 1, 23, "expected the attribute's minimum, found 'x'" },
+	{ "BA_DEF_ BO_ \"X\" FLOAT 0 ;\n", 1, 25, "expected the attribute's maximum, found ';'" },
+	{ BO "BA_DEF_ BO_ \"X\" FLOAT 0 1;\nBA_ \"X\" BO_ 1 \"a\";\n", 3, 15,
+	  "expected a number, found a string" },
+	{ "BA_DEF_ BO_ \"X\" ENUM a;\n", 1, 22, "expected an enum label string, found 'a'" },
+	{ "BA_DEF_ BO_ X INT 0 1;\n", 1, 13, "expected the attribute name string, found 'X'" },
+	{ BO "CM_ BO_ 1 x;\n", 2, 11, "expected the comment string, found 'x'" },
+	{ "CM_ BU_ 5 \"x\";\n", 1, 9, "expected a node name, found number 5" },
+	{ BO "CM_ SG_ 1 5 \"x\";\n", 2, 11, "expected a signal name, found number 5" },
+	{ "CM_ EV_ 5 \"x\";\n", 1, 9, "expected an environment variable name, found number 5" },
+	{ BO " SG_ P M : 0|4@1+ (1,0) [0|1] \"\" X\n" SG(
+		  "m1 : 8|8@1+ (1,0) [0|1]") "SG_MUL_VAL_ 1 S 5 1-1;\n",
+	  4, 17, "expected the multiplexor signal's name, found number 5" },
+	{ BO " SG_ P M : 0|4@1+ (1,0) [0|1] \"\" X\n" SG(
+		  "m1 : 8|8@1+ (1,0) [0|1]") "SG_MUL_VAL_ 1 S P x;\n",
+	  4, 19, "expected a multiplexor value range lo-hi, found 'x'" },
+	{ BO " SG_ P M : 0|4@1+ (1,0) [0|1] \"\" X\n" SG(
+		  "m1 : 8|8@1+ (1,0) [0|1]") "SG_MUL_VAL_ 1 S P 1-;\n",
+	  4, 21, "expected the range's upper value, found ';'" },
+	{ BO " SG_ P M : 0|4@1+ (1,0) [0|1] \"\" X\n" SG(
+		  "m1 : 8|8@1+ (1,0) [0|1]") "SG_MUL_VAL_ 1 S P 1-1 2-2;\n",
+	  4, 23, "expected ',' or ';' after a range, found number 2" },
+	{ BO SG(": 0|8@1+ (1111111111111111111111111111111111111111111111111111111111111111111111,0) [0|1]"),
+	  2, 18, "expected the factor, found a number of 70 digits" },
 };
 
 static void dbc_parse_errors_line_column_message(void **state)
