@@ -493,28 +493,27 @@ static int decode(const char *dbc_path, const char *log_path)
 				vals[j] = vals[j - 1];
 			vals[j] = v;
 		}
-		fputs(",\"signals\":{", out);
+		fputs_unlocked(",\"signals\":{", out);
 		for (int i = 0; i < nv; i++) {
 			const struct hl_dbc_signal *s = &m->signals[vals[i].signal];
-
 			char buf[32];
 			const char *text = buf;
 
 			if (i)
-				putc(',', out);
-			putc('"', out);
-			fputs(s->name, out);
-			fputs("\":", out);
+				putc_unlocked(',', out);
+			putc_unlocked('"', out);
+			fputs_unlocked(s->name, out);
+			fputs_unlocked("\":", out);
 			if (s->type == HL_DBC_INTEGER && s->length <= 8)
 				text = texts[mi][(size_t)vals[i].signal * 256 +
 						 (vals[i].raw & ((1u << s->length) - 1))];
 			else
 				format_value(buf, s, vals[i].raw, vals[i].phys);
-			fputs(text, out);
+			fputs_unlocked(text, out);
 		}
-		putc('}', out);
+		putc_unlocked('}', out);
 		put_e2e(out, &st[mi], f.frame.data, f.frame.len);
-		fputs("}\n", out);
+		fputs_unlocked("}\n", out);
 	}
 	if (ferror(in)) {
 		fprintf(stderr, "hdlamp dbc: '%s': read error\n", log_path);

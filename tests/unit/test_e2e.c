@@ -13,6 +13,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -59,6 +60,48 @@ static void e2e_crc_check_values(void **state)
 	/* the empty message: init ^ xorout */
 	assert_int_equal(hl_e2e_crc8_j1850(s, 0), 0x00);
 	assert_int_equal(hl_e2e_crc16_ccitt(s, 0), 0xffff);
+}
+
+/* The definitions, bit by bit, MSB first: the reference for the byte-wise tables. */
+static uint8_t ref_crc8(uint8_t poly, const uint8_t *d, size_t n)
+{
+	uint8_t c = 0xff;
+
+	for (size_t i = 0; i < n; i++) {
+		c ^= d[i];
+		for (int b = 0; b < 8; b++)
+			c = (c & 0x80) ? (uint8_t)((c << 1) ^ poly) : (uint8_t)(c << 1);
+	}
+	return c ^ 0xff;
+}
+
+static uint16_t ref_crc16(const uint8_t *d, size_t n)
+{
+	uint16_t c = 0xffff;
+
+	for (size_t i = 0; i < n; i++) {
+		c ^= (uint16_t)(d[i] << 8);
+		for (int b = 0; b < 8; b++)
+			c = (c & 0x8000) ? (uint16_t)((c << 1) ^ 0x1021) : (uint16_t)(c << 1);
+	}
+	return c;
+}
+
+static void e2e_crc_tables_match_definition(void **state)
+{
+	uint8_t d[64];
+
+	(void)state;
+	srand(1);
+	for (int it = 0; it < 2000; it++) {
+		size_t n = (size_t)(it % 65);
+
+		for (size_t i = 0; i < n; i++)
+			d[i] = (uint8_t)rand();
+		assert_int_equal(hl_e2e_crc8_j1850(d, n), ref_crc8(0x1d, d, n));
+		assert_int_equal(hl_e2e_crc8_h2f(d, n), ref_crc8(0x2f, d, n));
+		assert_int_equal(hl_e2e_crc16_ccitt(d, n), ref_crc16(d, n));
+	}
 }
 
 static void e2e_config_parse(void **state)
@@ -180,6 +223,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(e2e_crc_autosar_vectors),
 		cmocka_unit_test(e2e_crc_check_values),
+		cmocka_unit_test(e2e_crc_tables_match_definition),
 		cmocka_unit_test(e2e_config_parse),
 		cmocka_unit_test(e2e_p1_protect_and_check),
 		cmocka_unit_test(e2e_p1_hd84_frame),
