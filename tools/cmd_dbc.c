@@ -57,6 +57,20 @@ static int load(const char *path, struct hl_dbc **ret)
 
 /* --- info --- */
 
+/* The shortest %g that reads back as the same double, into buf (32 bytes). */
+static void format_double(char *buf, double v)
+{
+	if (!isfinite(v)) {
+		strcpy(buf, "null");
+		return;
+	}
+	for (int prec = 15; prec <= 17; prec++) {
+		snprintf(buf, 32, "%.*g", prec, v);
+		if (strtod(buf, NULL) == v)
+			break;
+	}
+}
+
 static void print_value(const struct hl_dbc_attr_value *v)
 {
 	switch (v->type) {
@@ -66,9 +80,13 @@ static void print_value(const struct hl_dbc_attr_value *v)
 	case HL_DBC_ATTR_HEX:
 		printf("0x%llX", (unsigned long long)v->i);
 		break;
-	case HL_DBC_ATTR_FLOAT:
-		printf("%.17g", v->f);
+	case HL_DBC_ATTR_FLOAT: {
+		char buf[32];
+
+		format_double(buf, v->f);
+		printf("%s", buf);
 		break;
+	}
 	case HL_DBC_ATTR_STRING:
 		printf("\"%s\"", v->s ? v->s : "");
 		break;
@@ -133,7 +151,7 @@ static void print_comment(const char *c, const char *indent)
 static void print_signal(const struct hl_dbc *db, const struct hl_dbc_message *m,
 			 const struct hl_dbc_signal *s)
 {
-	char mux[64] = "", layout[32];
+	char mux[64] = "", layout[32], factor[32], offset[32], min[32], max[32];
 
 	if (s->mux_parent >= 0) {
 		int n = snprintf(mux, sizeof(mux), "%s=", m->signals[s->mux_parent].name);
@@ -150,8 +168,12 @@ static void print_signal(const struct hl_dbc *db, const struct hl_dbc_message *m
 	}
 	snprintf(layout, sizeof(layout), "%d|%d@%d%c", s->start_bit, s->length, s->order,
 		 s->is_signed ? '-' : '+');
-	printf("    %-20s %-2s %-10s (%.17g,%.17g) [%.17g|%.17g] \"%s\"%s%s", s->name,
-	       s->is_multiplexor ? "M" : "", layout, s->factor, s->offset, s->min, s->max, s->unit,
+	format_double(factor, s->factor);
+	format_double(offset, s->offset);
+	format_double(min, s->min);
+	format_double(max, s->max);
+	printf("    %-20s %-2s %-10s (%s,%s) [%s|%s] \"%s\"%s%s", s->name,
+	       s->is_multiplexor ? "M" : "", layout, factor, offset, min, max, s->unit,
 	       s->type == HL_DBC_FLOAT	? " float" :
 	       s->type == HL_DBC_DOUBLE ? " double" :
 					  "",
@@ -194,8 +216,13 @@ static int info(const char *path)
 		if (d->type == HL_DBC_ATTR_ENUM)
 			for (int l = 0; l < d->n_labels; l++)
 				printf("%s\"%s\"", l ? "," : " ", d->labels[l]);
-		else if (d->type != HL_DBC_ATTR_STRING)
-			printf(" [%.17g, %.17g]", d->min, d->max);
+		else if (d->type != HL_DBC_ATTR_STRING) {
+			char lo[32], hi[32];
+
+			format_double(lo, d->min);
+			format_double(hi, d->max);
+			printf(" [%s, %s]", lo, hi);
+		}
 		if (d->has_default) {
 			printf(" default ");
 			print_value(&d->def);
@@ -232,8 +259,8 @@ static int info(const char *path)
 					"standard",
 		       m->size, m->transmitter ? m->transmitter : "-");
 		for (int t = 0; t < m->n_tx_nodes; t++)
-			printf(",%s", m->tx_nodes[t]);
-		printf("\n");
+			printf("%s%s", t ? "," : " (BO_TX_BU_ ", m->tx_nodes[t]);
+		printf("%s\n", m->n_tx_nodes ? ")" : "");
 		if (m->comment)
 			print_comment(m->comment, "  ");
 		print_attrs(db, HL_DBC_MESSAGE, m, NULL, NULL, "  ");
@@ -251,20 +278,6 @@ static int info(const char *path)
 }
 
 /* --- decode --- */
-
-/* The shortest %g that reads back as the same double, into buf (32 bytes). */
-static void format_double(char *buf, double v)
-{
-	if (!isfinite(v)) {
-		strcpy(buf, "null");
-		return;
-	}
-	for (int prec = 15; prec <= 17; prec++) {
-		snprintf(buf, 32, "%.*g", prec, v);
-		if (strtod(buf, NULL) == v)
-			break;
-	}
-}
 
 static void format_value(char *buf, const struct hl_dbc_signal *s, uint64_t raw, double phys)
 {
