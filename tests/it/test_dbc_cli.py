@@ -205,3 +205,23 @@ def test_usage_and_bad_database(tmp_path):
     warn.write_text('BO_ 1 A: 8 E\n SG_ S : 0|8@1+ (1,0) [0|1] "" X\nSGTYPE_ x : 8@1+;\n')
     p = run("info", str(warn))
     assert f"'{warn}':3:1: warning: skipped unknown section 'SGTYPE_'" in p.stderr
+
+
+def test_extended_id_fd_float_round_trip(tmp_path):
+    db = tmp_path / "ext.dbc"
+    db.write_text('BO_ 2566848766 Ext: 64 ECU\n'
+                  ' SG_ Temp : 0|12@1- (0.5,-10) [-1034|1033.5] "degC" X\n'
+                  ' SG_ Big : 71|64@0+ (1,0) [0|0] "" X\n'
+                  ' SG_ F : 480|32@1- (1,0) [0|0] "" X\n'
+                  'SIG_VALTYPE_ 2566848766 F : 1;\n')
+    p = run("encode", "--dbc", str(db), "--message", "Ext", "--time", "7.25", "--iface", "vcan0",
+            "Temp=-230.5", "Big=18446744073709549568", "F=-0.15625")
+    line = p.stdout.strip()
+    # -230.5 -> raw (-230.5 + 10) / 0.5 = -441 = 0xE47 in 12 bits, Intel: 47 0E
+    # Big, Motorola from bit 71 (MSB of byte 8): bytes 8..15 = FF FF FF FF FF FF F8 00
+    # F = -0.15625f = 0xBE200000, Intel from byte 60: 00 00 20 BE
+    data = "470E" + "00" * 6 + "FFFFFFFFFFFFF800" + "00" * 44 + "000020BE"
+    assert line == "(0000000007.250000) vcan0 18FF00FE##0" + data
+    f = decode(str(db), [line])[0]
+    assert f["id"] == "0x18ff00fe" and f["name"] == "Ext" and f["e2e"] == "none"
+    assert f["signals"] == {"Temp": -230.5, "Big": 18446744073709549568, "F": -0.15625}
