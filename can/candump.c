@@ -172,9 +172,9 @@ int hl_candump_parse(const char *line, size_t len, struct hl_candump_frame *ret,
 	if (at(&c, '#')) {
 		int flags;
 
-		c.s++;
 		if (f.frame.can_id & CAN_ERR_FLAG)
 			return bad(&c, "expected data after an error frame's '#', not CAN FD");
+		c.s++;
 		flags = c.s < c.end ? hex(*c.s) : -1;
 		if (flags < 0)
 			return bad(&c, "expected one hex digit of CAN FD flags after '##'");

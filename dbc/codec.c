@@ -111,6 +111,8 @@ int hl_dbc_decode(const struct hl_dbc_message *m, const uint8_t *data, size_t le
 	uint8_t buf[HL_DBC_MAX_PAYLOAD + 8];
 	int n = 0;
 
+	if (m->independent)
+		return -ENOENT;
 	if (len < (size_t)m->size)
 		return -EMSGSIZE;
 	memcpy(buf, data, m->size);

@@ -237,7 +237,7 @@ static int attr(const struct hl_dbc *db, enum hl_dbc_object object, int index, i
 			break;
 	if (d == db->n_defs)
 		return -ENOENT;
-	for (int i = 0; i < db->n_assigns; i++) {
+	for (int i = db->n_assigns - 1; i >= 0; i--) { /* the last BA_ wins */
 		const struct attr_assign *a = &db->assigns[i];
 
 		if (a->def == d && a->object == object && a->index == index &&

@@ -212,7 +212,8 @@ int hl_dbc_signal_attr(const struct hl_dbc *db, const struct hl_dbc_message *m,
 /*
  * Decodes the signals of m present in the frame (all unmultiplexed ones, and the multiplexed
  * ones whose multiplexor selects them) into ret_values (room for m->n_signals), multiplexors
- * before their dependents. Returns how many, or -EMSGSIZE when len < m->size (nothing read).
+ * before their dependents. Returns how many, -EMSGSIZE when len < m->size (nothing read), or
+ * -ENOENT for the independent-signals pseudo message.
  * Allocates nothing.
  */
 int hl_dbc_decode(const struct hl_dbc_message *m, const uint8_t *data, size_t len,

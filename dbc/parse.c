@@ -141,7 +141,7 @@ static int next(struct parser *p)
 		t->kind = TOK_IDENT;
 		while (p->s < p->end && (is_alpha(*p->s) || is_digit(*p->s)))
 			advance(p);
-	} else if (is_digit(*p->s)) {
+	} else if (is_digit(*p->s) || (*p->s == '.' && p->s + 1 < p->end && is_digit(p->s[1]))) {
 		t->kind = TOK_NUMBER;
 		while (p->s < p->end && is_digit(*p->s))
 			advance(p);
@@ -720,7 +720,9 @@ static int parse_sg(struct parser *p, int sg_line)
 			return rc;
 		}
 	}
-	if (hl_dbc_signal_end_byte((int)start, (int)len, (enum hl_dbc_byte_order)order) > m->size) {
+	/* CANdb++ keeps unassigned signals in its never-sent 0-byte VECTOR__INDEPENDENT_SIG_MSG */
+	if (!m->independent &&
+	    hl_dbc_signal_end_byte((int)start, (int)len, (enum hl_dbc_byte_order)order) > m->size) {
 		free(recv);
 		return fail_at(
 			p, start_line, start_col,
@@ -915,7 +917,7 @@ static int parse_ba_def(struct parser *p)
 	if (find_def(db, d.name) >= 0)
 		return fail_at(p, line, col, "attribute '%s' already defined", d.name);
 	if (is_word(p, "INT") || is_word(p, "HEX")) {
-		int64_t lo, hi;
+		int64_t lo = 0, hi = 0;
 
 		d.type = is_word(p, "INT") ? HL_DBC_ATTR_INT : HL_DBC_ATTR_HEX;
 		rc = next(p);
@@ -1105,16 +1107,7 @@ static int parse_ba(struct parser *p)
 		rc = expect_punct(p, ';', "';' after the attribute value");
 	if (rc < 0 || a.object == HL_DBC_ENVVAR)
 		return rc;
-	/* a later BA_ for the same object replaces an earlier one */
-	for (int i = 0; i < db->n_assigns; i++) {
-		struct attr_assign *o = &db->assigns[i];
-
-		if (o->def == a.def && o->object == a.object && o->index == a.index &&
-		    o->signal == a.signal) {
-			*o = a;
-			return 0;
-		}
-	}
+	/* kept in file order: lookups search from the end, so a later BA_ wins */
 	if (hl_dbc_grow(&db->assigns, &db->cap_assigns, db->n_assigns, sizeof(*db->assigns)))
 		return -ENOMEM;
 	db->assigns[db->n_assigns++] = a;
@@ -1199,7 +1192,7 @@ static int parse_sg_mul_val(struct parser *p, int kw_line, int kw_col)
 			       "SG_MUL_VAL_ for signal '%s' given twice (line %d)", s->name,
 			       db->where[mi][si].mul_line);
 	while (rc == 0 && !is_punct(p, ';')) {
-		uint64_t lo, hi;
+		uint64_t lo = 0, hi = 0;
 		int rl, rcol;
 
 		if (n > 0)
@@ -1320,6 +1313,9 @@ int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_db
 		return -ENOMEM;
 	}
 	p.db->version = "";
+	/* a UTF-8 byte order mark, as some Windows tools write it */
+	if (len >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0)
+		p.s += 3;
 	rc = next(&p);
 	while (rc == 0 && p.tok.kind != TOK_EOF)
 		rc = parse_statement(&p);

@@ -57,6 +57,20 @@ static int load(const char *path, struct hl_dbc **ret)
 
 /* --- info --- */
 
+/* The shortest %g that reads back as the same double, into buf (32 bytes). */
+static void format_double(char *buf, double v)
+{
+	if (!isfinite(v)) {
+		strcpy(buf, "null");
+		return;
+	}
+	for (int prec = 15; prec <= 17; prec++) {
+		snprintf(buf, 32, "%.*g", prec, v);
+		if (strtod(buf, NULL) == v)
+			break;
+	}
+}
+
 static void print_value(const struct hl_dbc_attr_value *v)
 {
 	switch (v->type) {
@@ -66,9 +80,13 @@ static void print_value(const struct hl_dbc_attr_value *v)
 	case HL_DBC_ATTR_HEX:
 		printf("0x%llX", (unsigned long long)v->i);
 		break;
-	case HL_DBC_ATTR_FLOAT:
-		printf("%.17g", v->f);
+	case HL_DBC_ATTR_FLOAT: {
+		char buf[32];
+
+		format_double(buf, v->f);
+		printf("%s", buf);
 		break;
+	}
 	case HL_DBC_ATTR_STRING:
 		printf("\"%s\"", v->s ? v->s : "");
 		break;
@@ -133,7 +151,7 @@ static void print_comment(const char *c, const char *indent)
 static void print_signal(const struct hl_dbc *db, const struct hl_dbc_message *m,
 			 const struct hl_dbc_signal *s)
 {
-	char mux[64] = "", layout[32];
+	char mux[64] = "", layout[32], factor[32], offset[32], min[32], max[32];
 
 	if (s->mux_parent >= 0) {
 		int n = snprintf(mux, sizeof(mux), "%s=", m->signals[s->mux_parent].name);
@@ -150,8 +168,12 @@ static void print_signal(const struct hl_dbc *db, const struct hl_dbc_message *m
 	}
 	snprintf(layout, sizeof(layout), "%d|%d@%d%c", s->start_bit, s->length, s->order,
 		 s->is_signed ? '-' : '+');
-	printf("    %-20s %-2s %-10s (%.17g,%.17g) [%.17g|%.17g] \"%s\"%s%s", s->name,
-	       s->is_multiplexor ? "M" : "", layout, s->factor, s->offset, s->min, s->max, s->unit,
+	format_double(factor, s->factor);
+	format_double(offset, s->offset);
+	format_double(min, s->min);
+	format_double(max, s->max);
+	printf("    %-20s %-2s %-10s (%s,%s) [%s|%s] \"%s\"%s%s", s->name,
+	       s->is_multiplexor ? "M" : "", layout, factor, offset, min, max, s->unit,
 	       s->type == HL_DBC_FLOAT	? " float" :
 	       s->type == HL_DBC_DOUBLE ? " double" :
 					  "",
@@ -194,8 +216,13 @@ static int info(const char *path)
 		if (d->type == HL_DBC_ATTR_ENUM)
 			for (int l = 0; l < d->n_labels; l++)
 				printf("%s\"%s\"", l ? "," : " ", d->labels[l]);
-		else if (d->type != HL_DBC_ATTR_STRING)
-			printf(" [%.17g, %.17g]", d->min, d->max);
+		else if (d->type != HL_DBC_ATTR_STRING) {
+			char lo[32], hi[32];
+
+			format_double(lo, d->min);
+			format_double(hi, d->max);
+			printf(" [%s, %s]", lo, hi);
+		}
 		if (d->has_default) {
 			printf(" default ");
 			print_value(&d->def);
@@ -232,8 +259,8 @@ static int info(const char *path)
 					"standard",
 		       m->size, m->transmitter ? m->transmitter : "-");
 		for (int t = 0; t < m->n_tx_nodes; t++)
-			printf(",%s", m->tx_nodes[t]);
-		printf("\n");
+			printf("%s%s", t ? "," : " (BO_TX_BU_ ", m->tx_nodes[t]);
+		printf("%s\n", m->n_tx_nodes ? ")" : "");
 		if (m->comment)
 			print_comment(m->comment, "  ");
 		print_attrs(db, HL_DBC_MESSAGE, m, NULL, NULL, "  ");
@@ -252,34 +279,64 @@ static int info(const char *path)
 
 /* --- decode --- */
 
-/* The shortest %g that reads back as the same double. */
-static void put_double(FILE *out, double v)
-{
-	char buf[32];
-
-	if (!isfinite(v)) {
-		fputs("null", out);
-		return;
-	}
-	for (int prec = 15; prec <= 17; prec++) {
-		snprintf(buf, sizeof(buf), "%.*g", prec, v);
-		if (strtod(buf, NULL) == v)
-			break;
-	}
-	fputs(buf, out);
-}
-
-static void put_value(FILE *out, const struct hl_dbc_signal *s, const struct hl_dbc_value *v)
+static void format_value(char *buf, const struct hl_dbc_signal *s, uint64_t raw, double phys)
 {
 	/* plain integers print exactly, also beyond 2^53 */
 	if (s->type == HL_DBC_INTEGER && s->factor == 1 && s->offset == 0) {
 		if (s->is_signed)
-			fprintf(out, "%lld", (long long)(int64_t)v->raw);
+			snprintf(buf, 32, "%lld", (long long)(int64_t)raw);
 		else
-			fprintf(out, "%llu", (unsigned long long)v->raw);
+			snprintf(buf, 32, "%llu", (unsigned long long)raw);
 		return;
 	}
-	put_double(out, v->phys);
+	format_double(buf, phys);
+}
+
+/*
+ * The text of every value of the integer signals of up to 8 bits (the dimming values): made
+ * once, so that decoding a log prints without formatting doubles. table[m][k] is NULL for
+ * other signals.
+ */
+typedef char value_text[32];
+
+static value_text **value_table_new(const struct hl_dbc *db)
+{
+	int n = hl_dbc_n_messages(db);
+	value_text **t = calloc(n + 1, sizeof(*t));
+
+	if (!t)
+		return NULL;
+	for (int i = 0; i < n; i++) {
+		const struct hl_dbc_message *m = hl_dbc_message(db, i);
+
+		t[i] = calloc((size_t)m->n_signals * 256 + 1, sizeof(value_text));
+		if (!t[i])
+			return t;
+		for (int k = 0; k < m->n_signals; k++) {
+			const struct hl_dbc_signal *s = &m->signals[k];
+
+			if (s->type != HL_DBC_INTEGER || s->length > 8)
+				continue;
+			for (uint64_t r = 0; r < ((uint64_t)1 << s->length); r++) {
+				uint64_t raw = r;
+
+				if (s->is_signed && (r >> (s->length - 1)))
+					raw = r | ~(((uint64_t)1 << s->length) - 1);
+				format_value(t[i][(size_t)k * 256 + r], s, raw,
+					     hl_dbc_signal_phys(s, raw));
+			}
+		}
+	}
+	return t;
+}
+
+static void value_table_free(const struct hl_dbc *db, value_text **t)
+{
+	if (!t)
+		return;
+	for (int i = 0; i < hl_dbc_n_messages(db); i++)
+		free(t[i]);
+	free(t);
 }
 
 struct e2e_state {
@@ -371,6 +428,7 @@ static int decode(const char *dbc_path, const char *log_path)
 	struct hl_dbc_counters counters = { 0 };
 	struct hl_dbc_value *vals = NULL;
 	struct e2e_state *st = NULL;
+	value_text **texts = NULL;
 	FILE *in = stdin, *out = stdout;
 	char *line = NULL;
 	size_t cap = 0;
@@ -383,8 +441,16 @@ static int decode(const char *dbc_path, const char *log_path)
 	if (e2e_configs(db, dbc_path, &st) < 0)
 		goto out;
 	vals = malloc(sizeof(*vals) * (hl_dbc_max_signals(db) + 1));
-	if (!vals)
+	texts = value_table_new(db);
+	if (!vals || !texts) {
+		fprintf(stderr, "hdlamp dbc: out of memory\n");
 		goto out;
+	}
+	for (int i = 0; i < hl_dbc_n_messages(db); i++)
+		if (!texts[i]) {
+			fprintf(stderr, "hdlamp dbc: out of memory\n");
+			goto out;
+		}
 	if (strcmp(log_path, "-") != 0) {
 		in = fopen(log_path, "re");
 		if (!in) {
@@ -398,7 +464,7 @@ static int decode(const char *dbc_path, const char *log_path)
 		struct hl_candump_error err;
 		const struct hl_dbc_message *m;
 		uint32_t id;
-		int nv;
+		int nv, mi;
 
 		lineno++;
 		if (n == 0 || line[0] == '\n' || (line[0] == '\r' && line[1] == '\n'))
@@ -424,6 +490,7 @@ static int decode(const char *dbc_path, const char *log_path)
 			fputs(",\"name\":null}\n", out);
 			continue;
 		}
+		mi = (int)(m - hl_dbc_message(db, 0));
 		fprintf(out, ",\"name\":\"%s\"", m->name);
 		if (nv < 0) {
 			fprintf(out, ",\"error\":\"short frame: %u of %d bytes\"}\n", f.frame.len,
@@ -439,16 +506,27 @@ static int decode(const char *dbc_path, const char *log_path)
 				vals[j] = vals[j - 1];
 			vals[j] = v;
 		}
-		fputs(",\"signals\":{", out);
+		fputs_unlocked(",\"signals\":{", out);
 		for (int i = 0; i < nv; i++) {
 			const struct hl_dbc_signal *s = &m->signals[vals[i].signal];
+			char buf[32];
+			const char *text = buf;
 
-			fprintf(out, "%s\"%s\":", i ? "," : "", s->name);
-			put_value(out, s, &vals[i]);
+			if (i)
+				putc_unlocked(',', out);
+			putc_unlocked('"', out);
+			fputs_unlocked(s->name, out);
+			fputs_unlocked("\":", out);
+			if (s->type == HL_DBC_INTEGER && s->length <= 8)
+				text = texts[mi][(size_t)vals[i].signal * 256 +
+						 (vals[i].raw & ((1u << s->length) - 1))];
+			else
+				format_value(buf, s, vals[i].raw, vals[i].phys);
+			fputs_unlocked(text, out);
 		}
-		putc('}', out);
-		put_e2e(out, &st[m - hl_dbc_message(db, 0)], f.frame.data, f.frame.len);
-		fputs("}\n", out);
+		putc_unlocked('}', out);
+		put_e2e(out, &st[mi], f.frame.data, f.frame.len);
+		fputs_unlocked("}\n", out);
 	}
 	if (ferror(in)) {
 		fprintf(stderr, "hdlamp dbc: '%s': read error\n", log_path);
@@ -470,6 +548,7 @@ out:
 		fclose(in);
 	free(line);
 	free(vals);
+	value_table_free(db, texts);
 	free(st);
 	hl_dbc_free(db);
 	return rc;
