@@ -703,7 +703,7 @@ static int parse_sg(struct parser *p, int sg_line)
 	/* receivers: words and commas to the end of the line */
 	while (p->tok.line == p->prev_line && (p->tok.kind == TOK_IDENT || is_punct(p, ','))) {
 		if (p->tok.kind == TOK_IDENT) {
-			const char *r;
+			const char *r = NULL;
 
 			if (hl_dbc_grow(&recv, &cap_recv, n_recv, sizeof(*recv))) {
 				free(recv);

@@ -339,10 +339,16 @@ static void value_table_free(const struct hl_dbc *db, value_text **t)
 	free(t);
 }
 
+/*
+ * The alive counter steps once per cycle and every page (multiplexor value) of a cycle carries
+ * it, so it is followed per page: page p of cycle n+1 must carry counter(n) + 1.
+ */
+#define E2E_PAGES 64 /* multiplexor values followed; frames of higher pages get CRC checks only */
+
 struct e2e_state {
 	struct hl_e2e_config cfg;
-	bool seen;
-	unsigned counter;
+	bool seen[E2E_PAGES];
+	unsigned counter[E2E_PAGES];
 };
 
 static int e2e_configs(const struct hl_dbc *db, const char *path, struct e2e_state **ret)
@@ -377,7 +383,7 @@ static int e2e_configs(const struct hl_dbc *db, const char *path, struct e2e_sta
 	return 0;
 }
 
-static void put_e2e(FILE *out, struct e2e_state *st, const uint8_t *data, size_t len)
+static void put_e2e(FILE *out, struct e2e_state *st, uint64_t page, const uint8_t *data, size_t len)
 {
 	unsigned cur, lost;
 	int rc;
@@ -395,17 +401,33 @@ static void put_e2e(FILE *out, struct e2e_state *st, const uint8_t *data, size_t
 		fputs(",\"e2e\":\"counter\"", out);
 		return;
 	}
-	rc = st->seen ? hl_e2e_counter_check(hl_e2e_counter_max(st->cfg.profile), st->counter, cur,
-					     &lost) :
-			HL_E2E_COUNTER_OK;
-	st->seen = true;
-	st->counter = cur;
+	if (page >= E2E_PAGES) {
+		fputs(",\"e2e\":\"ok\"", out);
+		return;
+	}
+	rc = st->seen[page] ? hl_e2e_counter_check(hl_e2e_counter_max(st->cfg.profile),
+						   st->counter[page], cur, &lost) :
+			      HL_E2E_COUNTER_OK;
+	st->seen[page] = true;
+	st->counter[page] = cur;
 	if (rc == HL_E2E_COUNTER_REPEATED)
 		fputs(",\"e2e\":\"repeated\"", out);
 	else if (rc == HL_E2E_COUNTER_LOST)
 		fprintf(out, ",\"e2e\":\"lost\",\"lost\":%u", lost);
 	else
 		fputs(",\"e2e\":\"ok\"", out);
+}
+
+/* The value of the message's top-level multiplexor in a decoded frame, 0 without one. */
+static uint64_t page_of(const struct hl_dbc_message *m, const struct hl_dbc_value *vals, int nv)
+{
+	for (int i = 0; i < nv; i++) {
+		const struct hl_dbc_signal *s = &m->signals[vals[i].signal];
+
+		if (s->is_multiplexor && s->mux_parent < 0)
+			return vals[i].raw;
+	}
+	return 0;
 }
 
 static void put_string(FILE *out, const char *s)
@@ -525,7 +547,7 @@ static int decode(const char *dbc_path, const char *log_path)
 			fputs_unlocked(text, out);
 		}
 		putc_unlocked('}', out);
-		put_e2e(out, &st[mi], f.frame.data, f.frame.len);
+		put_e2e(out, &st[mi], page_of(m, vals, nv), f.frame.data, f.frame.len);
 		fputs_unlocked("}\n", out);
 	}
 	if (ferror(in)) {

@@ -55,8 +55,9 @@ the relative current is i_k = v_k / 63, which is the physical value of every LED
 
 Byte 0       CRC-8 SAE J1850 (poly 0x1D, init 0xFF, final XOR 0xFF) over the data ID (low
              byte, high byte: HdlE2E P1 dataid) and bytes 1..7 - the E2E profile 1 layout.
-Byte 1 0..3  alive counter 0..14, one step per frame (each page), wrapping 14 -> 0; 15 is
-             never sent.
+Byte 1 0..3  alive counter 0..14, one step per cycle: the 12 pages of one cycle carry the
+             same value (a receiver completes a cycle when every page of one counter value
+             has arrived); wraps 14 -> 0, 15 is never sent.
 Byte 1 4..7  page index 0..11, the multiplexor.
 Bytes 2..7   8 sources x 6 bits, Intel: slot j (0..7) at start bit 16 + 6 j holds source
              8 page + j + 1, signal LED_nnn with attribute HdlSource nnn.
@@ -111,7 +112,7 @@ def classic():
         out.append("")
         cm.append(f'CM_ BO_ {msg_id} "Dimming of the {lamp} lamp: page HL_Page_{suffix} carries sources 8 page + 1 .. 8 page + 8.";')
         cm.append(f'CM_ SG_ {msg_id} HL_CRC_{suffix} "CRC-8 SAE J1850 over data ID (low, high) and bytes 1..7 (E2E P1 layout).";')
-        cm.append(f'CM_ SG_ {msg_id} HL_Alive_{suffix} "Alive counter 0..14, +1 per frame, wraps to 0.";')
+        cm.append(f'CM_ SG_ {msg_id} HL_Alive_{suffix} "Alive counter 0..14, +1 per cycle (all pages of a cycle carry it), wraps to 0.";')
         cm.append(f'CM_ SG_ {msg_id} HL_Page_{suffix} "Page 0..11: which 8 sources bytes 2..7 carry.";')
         ba.append(f'BA_ "GenMsgCycleTime" BO_ {msg_id} 20;')
         ba.append(f'BA_ "VFrameFormat" BO_ {msg_id} 0;')
