@@ -29,6 +29,7 @@
 #define POST_SIDE_M 0.12
 #define POST_HEIGHT_M 1.0
 #define POST_STEP_M 10.0
+#define GRASS_HALF_WIDTH_M 40.0
 #define GRID_STEP_M 10.0
 #define GRID_LINE_M 0.25
 #define WALL_HALF_WIDTH_M 20.0
@@ -172,14 +173,14 @@ static void ground(const struct hl_scene *s, const double o[3], const double d[3
 	if (x < ROAD_START_M || x > HL_ROAD_LENGTH_M)
 		return;
 	ay = fabs(y);
-	if (s->kind == HL_SCENE_BIRD && x >= 0.0 &&
+	if (s->kind == HL_SCENE_BIRD && x >= 0.0 && ay < GRASS_HALF_WIDTH_M &&
 	    (near_multiple(x, GRID_STEP_M, GRID_LINE_M / 2) ||
 	     (ay > HL_LANE_WIDTH_M && near_multiple(y, GRID_STEP_M, GRID_LINE_M / 2)))) {
 		take(best, t, 0, 0, 1, HL_SURF_GRID, ALBEDO_GRID);
 		return;
 	}
 	if (ay > HL_LANE_WIDTH_M) {
-		if (ay < 15.0)
+		if (ay < GRASS_HALF_WIDTH_M)
 			take(best, t, 0, 0, 1, HL_SURF_SHOULDER, ALBEDO_SHOULDER);
 		return;
 	}

@@ -9,5 +9,6 @@
 
 int hl_cmd_model(int argc, char **argv);
 int hl_cmd_lid(int argc, char **argv);
+int hl_cmd_render(int argc, char **argv);
 
 #endif

@@ -14,6 +14,7 @@ struct command {
 static const struct command commands[] = {
 	{ "model", hl_cmd_model, "generate the HD84 lamp pair and its presets, or a pixel lamp" },
 	{ "lid", hl_cmd_lid, "inspect, combine and plot LID files (info, combine, plot)" },
+	{ "render", hl_cmd_render, "render a still of a scene lit by the lamps (PNG or EXR)" },
 };
 
 static void usage(FILE *f)
