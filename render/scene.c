@@ -34,7 +34,7 @@
 #define GRID_LINE_M 0.25
 #define WALL_HALF_WIDTH_M 20.0
 #define WALL_HEIGHT_M 10.0
-#define WALL_LINE_M 0.04
+#define WALL_LINE_DEG 0.25 /* lines 0.25° wide, as seen from the lamps */
 #define WALL_STEP_DEG 5.0
 
 static const char *const names[] = { "sphere", "wall", "road", "bird" };
@@ -262,8 +262,8 @@ static void wall(const struct hl_scene *s, const double o[3], const double d[3],
 	/* H grows to the right, i.e. towards -y; lines 5° apart (type A, as a goniometer). */
 	h_deg = atan2(cy - y, dist) / DEG;
 	v_deg = atan2(z - cz, hypot(dist, cy - y)) / DEG;
-	line = near_multiple(h_deg, WALL_STEP_DEG, WALL_LINE_M / 2 / dist / DEG) ||
-	       near_multiple(v_deg, WALL_STEP_DEG, WALL_LINE_M / 2 / dist / DEG);
+	line = near_multiple(h_deg, WALL_STEP_DEG, WALL_LINE_DEG / 2) ||
+	       near_multiple(v_deg, WALL_STEP_DEG, WALL_LINE_DEG / 2);
 	/* Centre lines of the lamps: where each optical axis meets the screen. */
 	for (int k = 0; k < 2 && !line; k++) {
 		double ax[3], ay[3], az[3], ta, py, pz;
@@ -274,7 +274,8 @@ static void wall(const struct hl_scene *s, const double o[3], const double d[3],
 		ta = (dist - s->lamps[k].pos_m[0]) / az[0];
 		py = s->lamps[k].pos_m[1] + ta * az[1];
 		pz = s->lamps[k].pos_m[2] + ta * az[2];
-		line = fabs(y - py) <= WALL_LINE_M / 2 || fabs(z - pz) <= WALL_LINE_M / 2;
+		line = fabs(y - py) <= dist * tan(WALL_LINE_DEG * DEG / 2) ||
+		       fabs(z - pz) <= dist * tan(WALL_LINE_DEG * DEG / 2);
 	}
 	take(best, t, -1, 0, 0, line ? HL_SURF_WALL_LINE : HL_SURF_WALL,
 	     line ? ALBEDO_WALL_LINE : ALBEDO_WALL);
