@@ -115,7 +115,8 @@ int hl_gbuffer_new(int width, int height, struct hl_gbuffer **ret)
 	gb->height = height;
 	gb->pos = calloc((size_t)width * height * 4, sizeof(float));
 	gb->nrm = calloc((size_t)width * height * 4, sizeof(float));
-	if (!gb->pos || !gb->nrm) {
+	gb->albedo = calloc((size_t)width * height, sizeof(float));
+	if (!gb->pos || !gb->nrm || !gb->albedo) {
 		hl_gbuffer_free(gb);
 		return -ENOMEM;
 	}
@@ -129,6 +130,7 @@ void hl_gbuffer_free(struct hl_gbuffer *gb)
 		return;
 	free(gb->pos);
 	free(gb->nrm);
+	free(gb->albedo);
 	free(gb);
 }
 
@@ -352,6 +354,7 @@ int hl_scene_render(const struct hl_scene *s, const struct hl_camera *cam, struc
 
 			hl_camera_ray(cam, col + 0.5, row + 0.5, d);
 			hl_scene_cast(s, cam->pos_m, d, gb->pos + i, gb->nrm + i);
+			gb->albedo[i / 4] = gb->pos[i + 3];
 		}
 	return 0;
 }

@@ -60,6 +60,7 @@ struct hl_gbuffer {
 	int width, height;
 	float *pos; /* 4 floats per pixel */
 	float *nrm; /* 4 floats per pixel */
+	float *albedo; /* 1 float per pixel: pos[4 i + 3] packed, for the per-frame views */
 };
 
 /* "sphere", "wall", "road", "bird" to a kind; -EINVAL otherwise. */

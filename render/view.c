@@ -38,7 +38,7 @@ void hl_view_luminance(const struct hl_gbuffer *gb, const float *lux, float *ret
 	const size_t n = (size_t)gb->width * gb->height;
 
 	for (size_t i = 0; i < n; i++)
-		ret[i] = gb->pos[4 * i + 3] * lux[i] * (float)M_1_PI;
+		ret[i] = gb->albedo[i] * lux[i] * (float)M_1_PI;
 }
 
 void hl_view_hdr(const struct hl_gbuffer *gb, const float *lux, float *ret)
@@ -46,7 +46,7 @@ void hl_view_hdr(const struct hl_gbuffer *gb, const float *lux, float *ret)
 	const size_t n = (size_t)gb->width * gb->height;
 
 	for (size_t i = 0; i < n; i++) {
-		const float l = gb->pos[4 * i + 3] * lux[i] * (float)M_1_PI;
+		const float l = gb->albedo[i] * lux[i] * (float)M_1_PI;
 
 		ret[4 * i + 0] = l;
 		ret[4 * i + 1] = l;
@@ -72,7 +72,7 @@ void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double expos
 	for (int i = 0; i < 1024; i++)
 		lut[i] = srgb8((i + 0.5f) / 1024.0f);
 	for (size_t i = 0; i < n; i++) {
-		const float x = gb->pos[4 * i + 3] * lux[i] * scale;
+		const float x = gb->albedo[i] * lux[i] * scale;
 		const float t = x / (1.0f + x);
 
 		memset(ret + 3 * i, x > 0.0f ? lut[(int)(t * 1024.0f)] : 0, 3);
