@@ -4,6 +4,9 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+#include <GLES3/gl31.h>
 
 #include "render/combine.h"
 #include "render/gl_combine.h"
@@ -39,18 +42,78 @@ const char *hl_backend_name(enum hl_backend b)
 	return backend_names[b];
 }
 
-/*
- * Measured on the project's 2-core llvmpipe machines (DESIGN.md §7, README "Rendering"): the
- * CPU combine (sparse, incremental) beats GLES box quads by an order of magnitude, and the
- * precomputed CPU headlight pass beats the llvmpipe shader. A real GPU turns both around.
- */
-static enum hl_backend pick(enum hl_backend want, const struct hl_egl *egl)
+static double now_ms(void)
 {
-	if (want != HL_BACKEND_AUTO)
-		return want;
-	if (egl && strcmp(hl_egl_platform(egl), "device") == 0)
-		return HL_BACKEND_GLES;
-	return HL_BACKEND_CPU;
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+#define PICK_RUNS 5 /* timed updates per candidate */
+
+/*
+ * AUTO for the combiner: times the CPU reference and the GLES box quads on this lamp (a full
+ * combine, then incremental updates of ten sources, as an ECU cycle) and returns the faster.
+ * On llvmpipe the CPU wins by about 40x; on a real GPU the upload-free GLES path may.
+ */
+static enum hl_backend pick_combine(const struct hl_lid *lid)
+{
+	const int n = hl_lid_n_sources(lid);
+	struct hl_combiner *cpu = NULL;
+	struct hl_gl_combiner *gl = NULL;
+	float *i = calloc(n, sizeof(float));
+	double t_cpu = 0.0, t_gl = 0.0;
+	enum hl_backend best = HL_BACKEND_CPU;
+
+	if (!i || hl_combiner_new(lid, 0, &cpu) < 0 ||
+	    hl_gl_combiner_new(lid, HL_GL_COMBINE_BOXES, 0, &gl, NULL, 0) < 0)
+		goto out;
+	for (int r = 0; r <= PICK_RUNS; r++) {
+		double t0;
+
+		for (int j = 0; j < n; j++)
+			i[j] = r == 0 ? 1.0f :
+					(j % PICK_RUNS == r - 1 ? 0.5f * r / PICK_RUNS : i[j]);
+		t0 = now_ms();
+		hl_combiner_update(cpu, i);
+		t_cpu += now_ms() - t0;
+		t0 = now_ms();
+		hl_gl_combiner_update(gl, i);
+		glFinish();
+		t_gl += now_ms() - t0;
+	}
+	best = t_gl < t_cpu ? HL_BACKEND_GLES : HL_BACKEND_CPU;
+out:
+	hl_combiner_free(cpu);
+	hl_gl_combiner_free(gl);
+	free(i);
+	return best;
+}
+
+/* AUTO for the headlight pass: one timed frame of each (after the shader's first run). */
+static enum hl_backend pick_headlight(struct hl_renderer *r, const struct hl_gbuffer *gb,
+				      const struct hl_headlight_lamp *lamps, float *lux)
+{
+	const float *dense[2] = { r->dense[0], r->dense[1] };
+	double t_cpu, t_gl, t0;
+
+	if (hl_headlight_new(gb, r->n_lamps, lamps, &r->cpu_light) < 0)
+		return HL_BACKEND_CPU;
+	if (hl_gl_headlight_new(gb, r->n_lamps, lamps, &r->gl_light, NULL, 0) < 0)
+		return HL_BACKEND_CPU;
+	for (int k = 0; k < r->n_lamps; k++)
+		hl_gl_headlight_upload(r->gl_light, k, r->dense[k]);
+	hl_gl_headlight_run(r->gl_light);
+	glFinish();
+	t0 = now_ms();
+	hl_gl_headlight_run(r->gl_light);
+	hl_gl_headlight_read(r->gl_light, lux);
+	t_gl = now_ms() - t0;
+	t0 = now_ms();
+	hl_headlight_run(r->cpu_light, dense, lux);
+	t_cpu = now_ms() - t0;
+	return t_gl < t_cpu ? HL_BACKEND_GLES : HL_BACKEND_CPU;
 }
 
 int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffer *gb,
@@ -68,8 +131,12 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 	r->n_lamps = cfg->n_lamps;
 	r->width = gb->width;
 	r->height = gb->height;
-	r->combine = pick(cfg->combine, cfg->egl);
-	r->headlight = pick(cfg->headlight, cfg->egl);
+	r->combine = cfg->combine;
+	r->headlight = cfg->headlight;
+	if (!cfg->egl) {
+		r->combine = r->combine == HL_BACKEND_AUTO ? HL_BACKEND_CPU : r->combine;
+		r->headlight = r->headlight == HL_BACKEND_AUTO ? HL_BACKEND_CPU : r->headlight;
+	}
 	if ((r->combine == HL_BACKEND_GLES || r->headlight == HL_BACKEND_GLES) && !cfg->egl) {
 		rc = -ENODEV;
 		goto err_free;
@@ -90,6 +157,8 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 			hl_lid_source_dense(lid, 0, r->dense[k]);
 			continue;
 		}
+		if (r->combine == HL_BACKEND_AUTO)
+			r->combine = pick_combine(lid);
 		if (r->combine == HL_BACKEND_GLES)
 			rc = hl_gl_combiner_new(lid, HL_GL_COMBINE_BOXES, 0, &r->gl_comb[k], NULL,
 						0);
@@ -98,12 +167,34 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 		if (rc < 0)
 			goto err_free;
 	}
-	if (r->headlight == HL_BACKEND_GLES)
+	if (r->combine == HL_BACKEND_AUTO) /* only combined distributions: nothing to combine */
+		r->combine = HL_BACKEND_CPU;
+	if (r->headlight == HL_BACKEND_AUTO) {
+		float *lux = malloc(sizeof(float) * (size_t)gb->width * gb->height);
+
+		if (!lux) {
+			rc = -ENOMEM;
+			goto err_free;
+		}
+		r->headlight = pick_headlight(r, gb, lamps, lux);
+		free(lux);
+		/* Keep the winner only. */
+		if (r->headlight == HL_BACKEND_GLES) {
+			hl_headlight_free(r->cpu_light);
+			r->cpu_light = NULL;
+		} else {
+			hl_gl_headlight_free(r->gl_light);
+			r->gl_light = NULL;
+		}
+	}
+	if (r->headlight == HL_BACKEND_GLES && !r->gl_light)
 		rc = hl_gl_headlight_new(gb, r->n_lamps, lamps, &r->gl_light, NULL, 0);
-	else
+	else if (r->headlight == HL_BACKEND_CPU && !r->cpu_light)
 		rc = hl_headlight_new(gb, r->n_lamps, lamps, &r->cpu_light);
 	if (rc < 0)
 		goto err_free;
+	for (int k = 0; r->gl_light && k < r->n_lamps; k++)
+		r->dirty[k] = true;
 	*ret = r;
 	return 0;
 

@@ -2,7 +2,8 @@
 /*
  * The render path of one scene view: per lamp the combiner (L = sum_k i_k L_k, 32-bit), then
  * the headlight pass over a static G-buffer, giving illuminance per pixel. Each stage runs on
- * the CPU or in GLES; HL_BACKEND_AUTO takes what hl_renderer_pick() measured fastest here.
+ * the CPU or in GLES; HL_BACKEND_AUTO times both when the renderer is made (a few updates of
+ * the combiner, one headlight frame) and keeps the faster on this machine.
  *
  * Thread-safety: one thread (the render thread, which owns the EGL context when GLES is used).
  */
