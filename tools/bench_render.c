@@ -245,7 +245,7 @@ int main(int argc, char **argv)
 	struct hl_headlight_lamp hl[2];
 	struct stats s_papers, s_gl_full, s_gl_inc, s_cpu_full, s_cpu_inc, s_cpu_upload;
 	struct stats s_light_cpu, s_light_gl, fr[4], frd[4];
-	double setup[4] = { 0 }, precompute_ms, *t;
+	double setup[4] = { 0 }, precompute_ms, *t, load[3];
 	float *dense[2] = { NULL, NULL }, *lux;
 	FILE *f = stdout;
 	char tail;
@@ -376,6 +376,8 @@ int main(int argc, char **argv)
 			return 1;
 		}
 	}
+	if (getloadavg(load, 3) < 0)
+		load[0] = load[1] = load[2] = -1.0;
 	fprintf(f, "{\n");
 	fprintf(f,
 		"  \"machine\": {\"cpus_online\": %ld, \"egl_platform\": \"%s\", \"renderer\": \"%s\", "
