@@ -381,9 +381,9 @@ int main(int argc, char **argv)
 	fprintf(f, "{\n");
 	fprintf(f,
 		"  \"machine\": {\"cpus_online\": %ld, \"egl_platform\": \"%s\", \"renderer\": \"%s\", "
-		"\"gl_version\": \"%s\"},\n",
+		"\"gl_version\": \"%s\", \"loadavg_1_5_15\": [%.2f, %.2f, %.2f]},\n",
 		sysconf(_SC_NPROCESSORS_ONLN), hl_egl_platform(egl), hl_egl_renderer(egl),
-		hl_egl_version(egl));
+		hl_egl_version(egl), load[0], load[1], load[2]);
 	fprintf(f,
 		"  \"lamp\": {\"sources\": %d, \"grid\": [%d, %d], \"changed_per_cycle\": %d},\n",
 		HL_HD84_SOURCES, hl_lid_grid(ctx.lamps[0])->width,
