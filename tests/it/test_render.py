@@ -154,3 +154,23 @@ def test_usage_errors(lamps, out_dir):
     assert r.returncode == 2 and ".exr" in r.stderr
     r = subprocess.run([HDLAMP, "render", "--help"], capture_output=True, text=True)
     assert r.returncode == 0 and "--scene" in r.stdout
+
+
+def test_benchmark_json(tmp_path):
+    """The benchmark runs all methods in one run and writes JSON (small and short here)."""
+    import json
+
+    bench = os.path.join(os.path.dirname(HDLAMP), "hdlamp-bench-render")
+    out = tmp_path / "bench.json"
+    r = subprocess.run([bench, "--size", "160x90", "--frames", "5", "--out", str(out)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    j = json.loads(out.read_text())
+    c = j["combine_per_lamp"]
+    for k in ("papers_gles_full_image_passes_r32f", "gles_box_quads_full",
+              "gles_box_quads_incremental", "cpu_sparse_full", "cpu_incremental"):
+        assert c[k]["median_ms"] > 0
+    assert c["papers_gles_full_image_passes_r32f"]["median_ms"] > c["cpu_incremental"]["median_ms"]
+    assert j["headlight"]["pixel_lamp_pairs"] > 0
+    assert set(j["frame"]) == {"combine_cpu_headlight_cpu", "combine_gles_headlight_gles",
+                               "combine_cpu_headlight_gles", "combine_gles_headlight_cpu"}
