@@ -113,24 +113,29 @@ static int open_display(struct hl_egl *egl, struct hl_egl_error *err)
 				    "'device' or 'surfaceless')",
 				    forced);
 	}
-	egl->dpy = EGL_NO_DISPLAY;
-	if (want_device) {
-		egl->dpy = device_display(client_ext);
-		egl->platform = "device";
+	/* A GPU first; if its display will not initialise, fall back to surfaceless. */
+	egl->dpy = want_device ? device_display(client_ext) : EGL_NO_DISPLAY;
+	egl->platform = "device";
+	if (egl->dpy != EGL_NO_DISPLAY && !eglInitialize(egl->dpy, &major, &minor)) {
+		if (!want_surfaceless)
+			return fail(err, "eglInitialize on the device platform failed (0x%04x)",
+				    eglGetError());
+		egl->dpy = EGL_NO_DISPLAY;
 	}
 	if (egl->dpy == EGL_NO_DISPLAY && want_surfaceless) {
 		egl->dpy = surfaceless_display(client_ext);
 		egl->platform = "surfaceless";
+		if (egl->dpy != EGL_NO_DISPLAY && !eglInitialize(egl->dpy, &major, &minor)) {
+			egl->dpy = EGL_NO_DISPLAY;
+			return fail(err,
+				    "eglInitialize on the surfaceless platform failed (0x%04x)",
+				    eglGetError());
+		}
 	}
 	if (egl->dpy == EGL_NO_DISPLAY)
 		return fail(err, "no EGL display: no GPU device%s",
 			    want_surfaceless ? " and no EGL_MESA_platform_surfaceless" :
 					       " (EGL_PLATFORM=device)");
-	if (!eglInitialize(egl->dpy, &major, &minor)) {
-		egl->dpy = EGL_NO_DISPLAY;
-		return fail(err, "eglInitialize on the %s platform failed (0x%04x)", egl->platform,
-			    eglGetError());
-	}
 	return 0;
 }
 
