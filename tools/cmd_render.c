@@ -20,6 +20,7 @@
 
 #define DEFAULT_EXPOSURE_EV 0.0 /* 1 cd/m^2 maps to half of full scale */
 #define BIRD_EXPOSURE_EV 2.0 /* from above most of the road is far and dim */
+#define SPHERE_EXPOSURE_EV (-3.0) /* 10 m from the lamp the sphere gets up to ~250 lx */
 
 static void usage(FILE *f)
 {
@@ -40,7 +41,7 @@ static void usage(FILE *f)
 		"  --size WxH           image size, default 1280x720\n"
 		"  --out FILE           .png (display, lux, lid) or .exr (hdr: RGBA half luminance;\n"
 		"                       lux: channel E in lux; lid: the combined distribution)\n"
-		"  --exposure EV        display exposure, default %.1f (bird: %.1f)\n"
+		"  --exposure EV        display exposure, default %.1f (bird: %.1f, sphere: %.1f)\n"
 		"  --iso L1,L2,...      iso-lux lines of the lux view, default 1,3,5,10,20,50\n"
 		"  --wall-distance M    wall scene: distance of the screen, default 25\n"
 		"  --camera-pos X,Y,Z   camera position (m, vehicle frame: x fwd, y left, z up)\n"
@@ -51,7 +52,7 @@ static void usage(FILE *f)
 		"  --right-pos, --right-aim  the same for the right lamp (default y -0.7)\n"
 		"  --lamp left|right    lid view: which lamp, default left\n"
 		"  --backend B          auto (default) | cpu | gles: where combine and headlight run\n",
-		DEFAULT_EXPOSURE_EV, BIRD_EXPOSURE_EV);
+		DEFAULT_EXPOSURE_EV, BIRD_EXPOSURE_EV, SPHERE_EXPOSURE_EV);
 }
 
 struct options {
@@ -445,7 +446,9 @@ int hl_cmd_render(int argc, char **argv)
 	if (rc)
 		return rc < 0 ? HL_EXIT_OK : rc;
 	if (isnan(o.exposure_ev))
-		o.exposure_ev = o.scene == HL_SCENE_BIRD ? BIRD_EXPOSURE_EV : DEFAULT_EXPOSURE_EV;
+		o.exposure_ev = o.scene == HL_SCENE_BIRD   ? BIRD_EXPOSURE_EV :
+				o.scene == HL_SCENE_SPHERE ? SPHERE_EXPOSURE_EV :
+							     DEFAULT_EXPOSURE_EV;
 	/* The renderer needs a GL context even when both stages run on the CPU: fail early. */
 	rc = hl_egl_new(&egl, &eerr);
 	if (rc < 0) {
