@@ -174,3 +174,33 @@ def test_benchmark_json(tmp_path):
     assert j["headlight"]["pixel_lamp_pairs"] > 0
     assert set(j["frame"]) == {"combine_cpu_headlight_cpu", "combine_gles_headlight_gles",
                                "combine_cpu_headlight_gles", "combine_gles_headlight_cpu"}
+
+
+def test_lid_files_and_preset_file(lamps, out_dir, tmp_path):
+    """--lid twice with a preset file equals --lamps with the same preset; one --lid lights
+    with the left lamp only; a preset for another lamp is refused with a message."""
+    both = out_dir / "lid_both.png"
+    left = out_dir / "lid_left_only.png"
+    base = out_dir / "lamps_high.png"
+    common = ["--scene", "road", "--view", "lux", "--size", SIZE]
+    r = subprocess.run([HDLAMP, "render", "--lid", str(lamps / "hd84_left.lid.exr"),
+                        "--lid", str(lamps / "hd84_right.lid.exr"),
+                        "--preset", str(lamps / "high.json"), "--out", str(both), *common],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    r = render(lamps, base, "--preset", "high", *common)
+    assert r.returncode == 0, r.stderr
+    assert (read_png(both) == read_png(base)).all()
+    r = subprocess.run([HDLAMP, "render", "--lid", str(lamps / "hd84_left.lid.exr"),
+                        "--preset", "high", "--out", str(left), *common],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert_not_blank(read_png(left), "left only")
+    assert not within_tolerance(read_png(left), read_png(both))
+    subprocess.run([HDLAMP, "model", "--sources", "16", "--out", str(tmp_path)], check=True,
+                   capture_output=True)
+    r = subprocess.run([HDLAMP, "render", "--lid", str(tmp_path / "pixel16_left.lid.exr"),
+                        "--preset", str(lamps / "low.json"), "--out", str(left), *common],
+                       capture_output=True, text=True)
+    assert r.returncode == 1
+    assert "95 sources per lamp" in r.stderr
