@@ -9,6 +9,8 @@
 #include "render/font.h"
 #include "render/plot.h"
 
+#define LUT_SIZE 16384 /* display tone-map table: < 0.25 sRGB levels per step, fits L1 */
+
 static const char *const names[] = { "display", "hdr", "lux", "lid" };
 
 int hl_view_from_name(const char *name)
@@ -66,16 +68,23 @@ void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double expos
 {
 	const size_t n = (size_t)gb->width * gb->height;
 	const float scale = (float)(exp2(exposure_ev) * M_1_PI);
-	uint8_t lut[1024];
+	/* Per thread, built on first use: the views stay callable from any thread. */
+	static _Thread_local uint8_t lut[LUT_SIZE];
+	static _Thread_local bool lut_ready;
 
-	/* x / (1 + x) lies in [0, 1): a table over it keeps powf out of the pixel loop. */
-	for (int i = 0; i < 1024; i++)
-		lut[i] = srgb8((i + 0.5f) / 1024.0f);
+	/*
+	 * x / (1 + x) lies in [0, 1): a table keeps powf out of the pixel loop. It is fine enough
+	 * that the dark end, where sRGB is steepest (12.92), moves less than a level per step.
+	 */
+	for (int i = 0; !lut_ready && i < LUT_SIZE; i++)
+		lut[i] = srgb8((i + 0.5f) / LUT_SIZE);
+	lut_ready = true;
 	for (size_t i = 0; i < n; i++) {
 		const float x = gb->albedo[i] * lux[i] * scale;
 		const float t = x / (1.0f + x);
+		const int j = (int)(t * LUT_SIZE);
 
-		memset(ret + 3 * i, x > 0.0f ? lut[(int)(t * 1024.0f)] : 0, 3);
+		memset(ret + 3 * i, x > 0.0f ? lut[j < LUT_SIZE ? j : LUT_SIZE - 1] : 0, 3);
 	}
 }
 
