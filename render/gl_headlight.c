@@ -12,23 +12,43 @@
 
 struct hl_gl_headlight {
 	int width, height, n_lamps;
+	enum hl_gl_headlight_mode mode;
 	struct hl_headlight_lamp lamps[HL_HEADLIGHT_MAX_LAMPS];
 	GLuint program, pos, nrm, target, fbo;
+	GLuint terms[HL_HEADLIGHT_MAX_LAMPS]; /* PRECOMPUTED: per lamp (x, y, factor) */
 	GLuint own[HL_HEADLIGHT_MAX_LAMPS]; /* textures for uploaded distributions */
 	GLuint lid[HL_HEADLIGHT_MAX_LAMPS]; /* what each lamp reads */
 	float *scratch;
 };
 
-static void set_uniforms(struct hl_gl_headlight *h)
+/* The shader with "#define HL_PASS pass" after its #version line. */
+static int build(int pass, GLuint *ret, char *log, size_t log_size)
+{
+	const char *body = strchr(hl_shader_headlight_frag, '\n');
+	const size_t n = strlen(hl_shader_headlight_frag) + 64;
+	char *src = malloc(n);
+	int rc;
+
+	if (!src)
+		return -ENOMEM;
+	snprintf(src, n, "#version 300 es\n#define HL_PASS %d%s", pass, body ? body : "");
+	rc = hl_shader_build(hl_shader_quad_vert, src, ret, log, log_size);
+	free(src);
+	return rc;
+}
+
+static void set_uniforms(struct hl_gl_headlight *h, GLuint program)
 {
 	GLint loc;
 
-	glUseProgram(h->program);
-	glUniform1i(glGetUniformLocation(h->program, "u_pos"), 0);
-	glUniform1i(glGetUniformLocation(h->program, "u_nrm"), 1);
-	glUniform1i(glGetUniformLocation(h->program, "u_lid0"), 2);
-	glUniform1i(glGetUniformLocation(h->program, "u_lid1"), 3);
-	glUniform1i(glGetUniformLocation(h->program, "u_n_lamps"), h->n_lamps);
+	glUseProgram(program);
+	glUniform1i(glGetUniformLocation(program, "u_pos"), 0);
+	glUniform1i(glGetUniformLocation(program, "u_nrm"), 1);
+	glUniform1i(glGetUniformLocation(program, "u_lid0"), 2);
+	glUniform1i(glGetUniformLocation(program, "u_lid1"), 3);
+	glUniform1i(glGetUniformLocation(program, "u_terms0"), 4);
+	glUniform1i(glGetUniformLocation(program, "u_terms1"), 5);
+	glUniform1i(glGetUniformLocation(program, "u_n_lamps"), h->n_lamps);
 	for (int k = 0; k < h->n_lamps; k++) {
 		const struct hl_headlight_lamp *l = &h->lamps[k];
 		const struct hl_lid_grid *g = &l->grid;
@@ -45,25 +65,61 @@ static void set_uniforms(struct hl_gl_headlight *h)
 			p[i] = (float)l->pose.pos_m[i];
 		}
 		snprintf(name, sizeof(name), "u_lamp_pos[%d]", k);
-		glUniform3fv(glGetUniformLocation(h->program, name), 1, p);
+		glUniform3fv(glGetUniformLocation(program, name), 1, p);
 		snprintf(name, sizeof(name), "u_lamp_to_lamp[%d]", k);
-		glUniformMatrix3fv(glGetUniformLocation(h->program, name), 1, GL_FALSE, m);
+		glUniformMatrix3fv(glGetUniformLocation(program, name), 1, GL_FALSE, m);
 		snprintf(name, sizeof(name), "u_angles[%d]", k);
-		glUniform1i(glGetUniformLocation(h->program, name),
-			    g->angles == HL_ANGLES_A ? 0 : 1);
+		glUniform1i(glGetUniformLocation(program, name), g->angles == HL_ANGLES_A ? 0 : 1);
 		snprintf(name, sizeof(name), "u_grid[%d]", k);
-		loc = glGetUniformLocation(h->program, name);
+		loc = glGetUniformLocation(program, name);
 		glUniform4f(loc, g->h_first_deg, g->v_last_deg,
 			    (g->width - 1) / (g->h_last_deg - g->h_first_deg),
 			    (g->height - 1) / (g->v_last_deg - g->v_first_deg));
 		snprintf(name, sizeof(name), "u_grid_size[%d]", k);
-		glUniform2i(glGetUniformLocation(h->program, name), g->width, g->height);
+		glUniform2i(glGetUniformLocation(program, name), g->width, g->height);
 	}
 }
 
+/* PRECOMPUTED: the terms pass, once per lamp, into its RGBA32F texture. */
+static int make_terms(struct hl_gl_headlight *h, char *log, size_t log_size)
+{
+	GLuint prog = 0, fbo;
+	int rc = build(1, &prog, log, log_size);
+
+	if (rc < 0)
+		return rc;
+	set_uniforms(h, prog);
+	glDisable(GL_BLEND);
+	for (int k = 0; k < h->n_lamps && rc == 0; k++) {
+		/* Made before the G-buffer is bound: making a texture binds it to the active unit. */
+		h->terms[k] = hl_gl_texture_float(h->width, h->height, true, NULL);
+		fbo = h->terms[k] ? hl_gl_framebuffer(h->terms[k]) : 0;
+		if (!fbo) {
+			rc = -EIO;
+			break;
+		}
+		glActiveTexture(GL_TEXTURE0);
+		glBindTexture(GL_TEXTURE_2D, h->pos);
+		glActiveTexture(GL_TEXTURE1);
+		glBindTexture(GL_TEXTURE_2D, h->nrm);
+		glActiveTexture(GL_TEXTURE0);
+		glViewport(0, 0, h->width, h->height);
+		glUniform1i(glGetUniformLocation(prog, "u_k"), k);
+		glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+		glBindFramebuffer(GL_FRAMEBUFFER, 0);
+		glDeleteFramebuffers(1, &fbo);
+	}
+	glDeleteProgram(prog);
+	if (rc == 0 && glGetError() != GL_NO_ERROR)
+		rc = -EIO;
+	if (rc < 0 && log && log_size)
+		snprintf(log, log_size, "cannot make the RGBA32F terms textures");
+	return rc;
+}
+
 int hl_gl_headlight_new(const struct hl_gbuffer *gb, int n_lamps,
-			const struct hl_headlight_lamp *lamps, struct hl_gl_headlight **ret,
-			char *log, size_t log_size)
+			const struct hl_headlight_lamp *lamps, enum hl_gl_headlight_mode mode,
+			struct hl_gl_headlight **ret, char *log, size_t log_size)
 {
 	struct hl_gl_headlight *h;
 	int rc;
@@ -79,14 +135,14 @@ int hl_gl_headlight_new(const struct hl_gbuffer *gb, int n_lamps,
 	h->width = gb->width;
 	h->height = gb->height;
 	h->n_lamps = n_lamps;
+	h->mode = mode;
 	memcpy(h->lamps, lamps, sizeof(*lamps) * n_lamps);
 	h->scratch = malloc(sizeof(float) * 4 * (size_t)gb->width * gb->height);
 	if (!h->scratch) {
 		rc = -ENOMEM;
 		goto err_free;
 	}
-	rc = hl_shader_build(hl_shader_quad_vert, hl_shader_headlight_frag, &h->program, log,
-			     log_size);
+	rc = build(mode == HL_GL_HEADLIGHT_PRECOMPUTED ? 2 : 0, &h->program, log, log_size);
 	if (rc < 0)
 		goto err_free;
 	h->pos = hl_gl_texture_float(gb->width, gb->height, true, gb->pos);
@@ -104,7 +160,12 @@ int hl_gl_headlight_new(const struct hl_gbuffer *gb, int n_lamps,
 		rc = -EIO;
 		goto err_free;
 	}
-	set_uniforms(h);
+	if (mode == HL_GL_HEADLIGHT_PRECOMPUTED) {
+		rc = make_terms(h, log, log_size);
+		if (rc < 0)
+			goto err_free;
+	}
+	set_uniforms(h, h->program);
 	*ret = h;
 	return 0;
 
@@ -115,7 +176,7 @@ err_free:
 
 void hl_gl_headlight_free(struct hl_gl_headlight *h)
 {
-	GLuint tex[] = { 0, 0, 0, 0, 0 };
+	GLuint tex[] = { 0, 0, 0, 0, 0, 0, 0 };
 
 	if (!h)
 		return;
@@ -124,6 +185,8 @@ void hl_gl_headlight_free(struct hl_gl_headlight *h)
 	tex[2] = h->target;
 	tex[3] = h->own[0];
 	tex[4] = h->own[1];
+	tex[5] = h->terms[0];
+	tex[6] = h->terms[1];
 	for (size_t i = 0; i < sizeof(tex) / sizeof(tex[0]); i++)
 		if (tex[i])
 			glDeleteTextures(1, &tex[i]);
@@ -165,6 +228,12 @@ void hl_gl_headlight_run(struct hl_gl_headlight *h)
 	glBindTexture(GL_TEXTURE_2D, h->lid[0]);
 	glActiveTexture(GL_TEXTURE3);
 	glBindTexture(GL_TEXTURE_2D, h->n_lamps > 1 ? h->lid[1] : h->lid[0]);
+	if (h->mode == HL_GL_HEADLIGHT_PRECOMPUTED) {
+		glActiveTexture(GL_TEXTURE4);
+		glBindTexture(GL_TEXTURE_2D, h->terms[0]);
+		glActiveTexture(GL_TEXTURE5);
+		glBindTexture(GL_TEXTURE_2D, h->n_lamps > 1 ? h->terms[1] : h->terms[0]);
+	}
 	glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 	glActiveTexture(GL_TEXTURE0);
 }

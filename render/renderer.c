@@ -100,7 +100,8 @@ static enum hl_backend pick_headlight(struct hl_renderer *r, const struct hl_gbu
 
 	if (hl_headlight_new(gb, r->n_lamps, lamps, &r->cpu_light) < 0)
 		return HL_BACKEND_CPU;
-	if (hl_gl_headlight_new(gb, r->n_lamps, lamps, &r->gl_light, NULL, 0) < 0)
+	if (hl_gl_headlight_new(gb, r->n_lamps, lamps, HL_GL_HEADLIGHT_PRECOMPUTED, &r->gl_light,
+				NULL, 0) < 0)
 		return HL_BACKEND_CPU;
 	for (int k = 0; k < r->n_lamps; k++)
 		hl_gl_headlight_upload(r->gl_light, k, r->dense[k]);
@@ -188,7 +189,8 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 		}
 	}
 	if (r->headlight == HL_BACKEND_GLES && !r->gl_light)
-		rc = hl_gl_headlight_new(gb, r->n_lamps, lamps, &r->gl_light, NULL, 0);
+		rc = hl_gl_headlight_new(gb, r->n_lamps, lamps, HL_GL_HEADLIGHT_PRECOMPUTED,
+					 &r->gl_light, NULL, 0);
 	else if (r->headlight == HL_BACKEND_CPU && !r->cpu_light)
 		rc = hl_headlight_new(gb, r->n_lamps, lamps, &r->cpu_light);
 	if (rc < 0)

@@ -5,6 +5,7 @@
  *             passes into R32F, GLES), GLES box quads (full and incremental), the CPU sparse
  *             combiner (full and incremental), and CPU + texture upload, all in the same run
  *   headlight 1280 x 720, two lamps, road scene: CPU with precomputed per-pixel terms, GLES
+ *             direct (everything per frame) and GLES with precomputed terms
  *   frame     the whole frame through hl_renderer for each backend pair: two combines (ten
  *             sources changed per lamp, like an ECU cycle), the headlight pass and the
  *             illuminance image in caller-owned host memory (GLES: glReadPixels of R32F; CPU:
@@ -244,7 +245,8 @@ int main(int argc, char **argv)
 	struct hl_headlight *hcpu = NULL;
 	struct hl_headlight_lamp hl[2];
 	struct stats s_papers, s_gl_full, s_gl_inc, s_cpu_full, s_cpu_inc, s_cpu_upload;
-	struct stats s_light_cpu, s_light_gl, fr[4], frd[4];
+	struct stats s_light_cpu, s_light_gl[2], fr[4], frd[4];
+	double gl_setup_ms[2];
 	double setup[4] = { 0 }, precompute_ms, *t, load[3];
 	float *dense[2] = { NULL, NULL }, *lux;
 	FILE *f = stdout;
@@ -338,24 +340,25 @@ int main(int argc, char **argv)
 		t[r] = now_ms() - t0;
 	}
 	s_light_cpu = summarise(t, frames);
-	{
+	for (int m = 0; m < 2; m++) {
 		struct hl_gl_headlight *hg;
 		int runs = frames < 30 ? frames : 30;
+		double t0 = now_ms();
 
-		if (hl_gl_headlight_new(gb, 2, hl, &hg, NULL, 0) < 0)
+		if (hl_gl_headlight_new(gb, 2, hl, m, &hg, NULL, 0) < 0)
 			return 1;
 		hl_gl_headlight_upload(hg, 0, dense[0]);
 		hl_gl_headlight_upload(hg, 1, dense[1]);
 		hl_gl_headlight_run(hg);
 		glFinish();
+		gl_setup_ms[m] = now_ms() - t0;
 		for (int r = 0; r < runs; r++) {
-			double t0 = now_ms();
-
+			t0 = now_ms();
 			hl_gl_headlight_run(hg);
 			glFinish();
 			t[r] = now_ms() - t0;
 		}
-		s_light_gl = summarise(t, runs);
+		s_light_gl[m] = summarise(t, runs);
 		hl_gl_headlight_free(hg);
 	}
 
@@ -406,7 +409,10 @@ int main(int argc, char **argv)
 		"\"pixel_lamp_pairs\": %zu, \"cpu_precompute_ms\": %.1f,\n",
 		w, h, hl_headlight_work(hcpu), precompute_ms);
 	print_stats(f, "cpu_precomputed", s_light_cpu, false);
-	print_stats(f, "gles", s_light_gl, true);
+	print_stats(f, "gles_direct", s_light_gl[HL_GL_HEADLIGHT_DIRECT], false);
+	print_stats(f, "gles_precomputed", s_light_gl[HL_GL_HEADLIGHT_PRECOMPUTED], false);
+	fprintf(f, "    \"gles_setup_ms\": {\"direct\": %.1f, \"precomputed\": %.1f}\n",
+		gl_setup_ms[0], gl_setup_ms[1]);
 	fprintf(f, "  },\n");
 	fprintf(f, "  \"frame\": {\n");
 	for (int j = 0; j < 4; j++) {

@@ -46,6 +46,21 @@ static int teardown(void **state)
 	return 0;
 }
 
+/* The GLES pass in one mode over gb, lamps reading dense[k]. */
+static void gl_pass(const struct hl_gbuffer *gb, int n, const struct hl_headlight_lamp *lamps,
+		    const float *const *dense, enum hl_gl_headlight_mode mode, float *out)
+{
+	struct hl_gl_headlight *gl;
+	char log[1024] = "";
+
+	assert_int_equal(hl_gl_headlight_new(gb, n, lamps, mode, &gl, log, sizeof(log)), 0);
+	for (int k = 0; k < n; k++)
+		assert_int_equal(hl_gl_headlight_upload(gl, k, dense[k]), 0);
+	hl_gl_headlight_run(gl);
+	assert_int_equal(hl_gl_headlight_read(gl, out), 0);
+	hl_gl_headlight_free(gl);
+}
+
 /* Two smooth test sources, steep enough in V that a wrong angle system is off by > 1 %. */
 static double source_cd(int k, double h_deg, double v_deg)
 {
@@ -84,7 +99,7 @@ struct sphere_run {
 	struct hl_scene scene;
 	struct hl_camera cam;
 	struct hl_gbuffer *gb;
-	float *lux_cpu, *lux_gl;
+	float *lux_cpu, *lux_gl, *lux_glp; /* CPU, GLES direct, GLES precomputed */
 };
 
 /* Renders the sphere scene lit by the left lamp only, on the CPU and in GLES. */
@@ -94,11 +109,9 @@ static void render_sphere(const struct hl_lid *lid, enum hl_angles label, int w,
 	struct hl_lamp_pose poses[2];
 	struct hl_headlight_lamp lamp;
 	struct hl_headlight *cpu;
-	struct hl_gl_headlight *gl;
 	const struct hl_lid_grid *g = hl_lid_grid(lid);
 	float *dense = malloc(sizeof(float) * g->width * g->height);
 	const float *d[1] = { dense };
-	char log[1024] = "";
 
 	assert_non_null(dense);
 	hl_combine_sparse(lid, currents, dense);
@@ -114,16 +127,15 @@ static void render_sphere(const struct hl_lid *lid, enum hl_angles label, int w,
 	lamp.grid.angles = label;
 	run->lux_cpu = malloc(sizeof(float) * w * h);
 	run->lux_gl = malloc(sizeof(float) * w * h);
+	run->lux_glp = malloc(sizeof(float) * w * h);
+	assert_non_null(run->lux_glp);
 	assert_non_null(run->lux_cpu);
 	assert_non_null(run->lux_gl);
 	assert_int_equal(hl_headlight_new(run->gb, 1, &lamp, &cpu), 0);
 	hl_headlight_run(cpu, d, run->lux_cpu);
 	hl_headlight_free(cpu);
-	assert_int_equal(hl_gl_headlight_new(run->gb, 1, &lamp, &gl, log, sizeof(log)), 0);
-	assert_int_equal(hl_gl_headlight_upload(gl, 0, dense), 0);
-	hl_gl_headlight_run(gl);
-	assert_int_equal(hl_gl_headlight_read(gl, run->lux_gl), 0);
-	hl_gl_headlight_free(gl);
+	gl_pass(run->gb, 1, &lamp, d, HL_GL_HEADLIGHT_DIRECT, run->lux_gl);
+	gl_pass(run->gb, 1, &lamp, d, HL_GL_HEADLIGHT_PRECOMPUTED, run->lux_glp);
 	free(dense);
 }
 
@@ -132,6 +144,7 @@ static void free_run(struct sphere_run *run)
 	hl_gbuffer_free(run->gb);
 	free(run->lux_cpu);
 	free(run->lux_gl);
+	free(run->lux_glp);
 }
 
 /*
@@ -184,20 +197,25 @@ static void sphere_validation(enum hl_angles system)
 	struct hl_lid *lid = test_lamp(system);
 	struct sphere_run run;
 	int n = 0;
-	double err_cpu, err_gl, err_wrong;
+	double err_cpu, err_gl, err_glp, err_wrong;
 
 	render_sphere(lid, system, 160, 120, 70.0, &run);
 	err_cpu = sphere_error(&run, run.lux_cpu, system, &n);
 	assert_true(n > 160 * 120 / 10);
 	n = 0;
 	err_gl = sphere_error(&run, run.lux_gl, system, &n);
+	n = 0;
+	err_glp = sphere_error(&run, run.lux_glp, system, &n);
 	/* The same pixels judged in the other angle system must fail: the test can tell A from B. */
 	err_wrong = sphere_error(&run, run.lux_cpu,
 				 system == HL_ANGLES_A ? HL_ANGLES_B : HL_ANGLES_A, &n);
-	printf("sphere type %c: max error CPU %.4f %%, GLES %.4f %%, wrong system %.2f %% (%d px)\n",
-	       system == HL_ANGLES_A ? 'A' : 'B', 100 * err_cpu, 100 * err_gl, 100 * err_wrong, n);
+	printf("sphere type %c: max error CPU %.4f %%, GLES %.4f %%, GLES precomputed %.4f %%, "
+	       "wrong system %.2f %% (%d px)\n",
+	       system == HL_ANGLES_A ? 'A' : 'B', 100 * err_cpu, 100 * err_gl, 100 * err_glp,
+	       100 * err_wrong, n);
 	assert_true(err_cpu < 0.01);
 	assert_true(err_gl < 0.01);
+	assert_true(err_glp < 0.01);
 	assert_true(err_wrong > 0.01);
 	free_run(&run);
 	hl_lid_free(lid);
@@ -260,10 +278,12 @@ static void headlight_single_source_lights_exactly_its_region(void **state)
 				continue;
 			assert_int_equal(run.lux_cpu[i] > 0.0f, inside);
 			assert_int_equal(run.lux_gl[i] > 0.0f, inside);
+			assert_int_equal(run.lux_glp[i] > 0.0f, inside);
 			lit += inside;
 			if (core) {
 				assert_float_equal(run.lux_cpu[i], 5.0, 5e-4);
 				assert_float_equal(run.lux_gl[i], 5.0, 5e-4);
+				assert_float_equal(run.lux_glp[i], 5.0, 5e-4);
 				full++;
 			}
 		}
@@ -314,9 +334,8 @@ static void headlight_wall_25m_test_points(void **state)
 		struct hl_camera cam = { .width = w, .height = h, .fov_y_deg = 2.0 };
 		struct hl_gbuffer *gb;
 		struct hl_headlight *cpu;
-		struct hl_gl_headlight *gl;
 		double ax[3], ay[3], az[3], l[3], d[3], tt, r2, cos_eps, ref, intensity;
-		float lux[33 * 33], lux_gl[33 * 33];
+		float lux[33 * 33], lux_gl[33 * 33], lux_glp[33 * 33];
 
 		hl_scene_init(&scene, HL_SCENE_WALL, poses);
 		scene.wall_distance_m = 25.0;
@@ -335,11 +354,8 @@ static void headlight_wall_25m_test_points(void **state)
 		assert_int_equal(hl_headlight_new(gb, 1, &lamp, &cpu), 0);
 		hl_headlight_run(cpu, dd, lux);
 		hl_headlight_free(cpu);
-		assert_int_equal(hl_gl_headlight_new(gb, 1, &lamp, &gl, NULL, 0), 0);
-		assert_int_equal(hl_gl_headlight_upload(gl, 0, dense), 0);
-		hl_gl_headlight_run(gl);
-		assert_int_equal(hl_gl_headlight_read(gl, lux_gl), 0);
-		hl_gl_headlight_free(gl);
+		gl_pass(gb, 1, &lamp, dd, HL_GL_HEADLIGHT_DIRECT, lux_gl);
+		gl_pass(gb, 1, &lamp, dd, HL_GL_HEADLIGHT_PRECOMPUTED, lux_glp);
 
 		/* The ray meets the screen x = 25 m; its normal is -x, so cos(eps) = d.x / |d|. */
 		tt = (25.0 - poses[0].pos_m[0]) / d[0];
@@ -349,12 +365,14 @@ static void headlight_wall_25m_test_points(void **state)
 					       (float)points[t].v_deg);
 		ref = intensity * cos_eps / r2;
 		printf("wall 25 m %-5s: I %.1f cd, reference %.4f lx, CPU %.4f lx (%+.4f %%), "
-		       "GLES %.4f lx (%+.4f %%)\n",
+		       "GLES %.4f lx (%+.4f %%), GLES precomputed %.4f lx (%+.4f %%)\n",
 		       points[t].name, intensity, ref, lux[c], 100 * (lux[c] - ref) / ref,
-		       lux_gl[c], 100 * (lux_gl[c] - ref) / ref);
+		       lux_gl[c], 100 * (lux_gl[c] - ref) / ref, lux_glp[c],
+		       100 * (lux_glp[c] - ref) / ref);
 		assert_true(intensity > 1.0);
 		assert_true(fabs(lux[c] - ref) <= 0.01 * ref);
 		assert_true(fabs(lux_gl[c] - ref) <= 0.01 * ref);
+		assert_true(fabs(lux_glp[c] - ref) <= 0.01 * ref);
 		hl_gbuffer_free(gb);
 	}
 	free(i);
@@ -375,12 +393,12 @@ static void headlight_road_cpu_equals_gles_and_point_reference(void **state)
 	struct hl_camera cam;
 	struct hl_gbuffer *gb;
 	struct hl_headlight *cpu;
-	struct hl_gl_headlight *gl;
 	const int w = 160, h = 90;
 	float *dense[2], *lux = malloc(sizeof(float) * w * h),
-			 *lux_gl = malloc(sizeof(float) * w * h);
+			 *lux_gl = malloc(sizeof(float) * w * h),
+			 *lux_glp = malloc(sizeof(float) * w * h);
 	float i[HL_HD84_SOURCES];
-	double worst = 0.0, worst_ref = 0.0, peak = 0.0;
+	double worst = 0.0, worst_p = 0.0, worst_ref = 0.0, peak = 0.0;
 
 	(void)state;
 	assert_int_equal(hl_model_hd84(HL_SIDE_LEFT, &lamps[0]), 0);
@@ -402,11 +420,8 @@ static void headlight_road_cpu_equals_gles_and_point_reference(void **state)
 	assert_int_equal(hl_scene_render(&scene, &cam, gb), 0);
 	assert_int_equal(hl_headlight_new(gb, 2, hl, &cpu), 0);
 	hl_headlight_run(cpu, (const float *const *)dense, lux);
-	assert_int_equal(hl_gl_headlight_new(gb, 2, hl, &gl, NULL, 0), 0);
-	assert_int_equal(hl_gl_headlight_upload(gl, 0, dense[0]), 0);
-	assert_int_equal(hl_gl_headlight_upload(gl, 1, dense[1]), 0);
-	hl_gl_headlight_run(gl);
-	assert_int_equal(hl_gl_headlight_read(gl, lux_gl), 0);
+	gl_pass(gb, 2, hl, (const float *const *)dense, HL_GL_HEADLIGHT_DIRECT, lux_gl);
+	gl_pass(gb, 2, hl, (const float *const *)dense, HL_GL_HEADLIGHT_PRECOMPUTED, lux_glp);
 	for (int j = 0; j < w * h; j++)
 		peak = lux[j] > peak ? lux[j] : peak;
 	for (int j = 0; j < w * h; j++) {
@@ -419,23 +434,26 @@ static void headlight_road_cpu_equals_gles_and_point_reference(void **state)
 				ref += hl_headlight_point(&hl[k], dense[k], pp, nn);
 		e = fabs(lux[j] - lux_gl[j]) / (peak * 1e-3 + fabs(lux[j]));
 		worst = e > worst ? e : worst;
+		e = fabs(lux[j] - lux_glp[j]) / (peak * 1e-3 + fabs(lux[j]));
+		worst_p = e > worst_p ? e : worst_p;
 		e = fabs(lux[j] - ref) / (peak * 1e-3 + ref);
 		worst_ref = e > worst_ref ? e : worst_ref;
 	}
-	printf("road, high beam: peak %.1f lx; CPU vs GLES max rel. diff %.2e, CPU vs point "
-	       "reference %.2e\n",
-	       peak, worst, worst_ref);
+	printf("road, high beam: peak %.1f lx; CPU vs GLES max rel. diff %.2e (precomputed "
+	       "%.2e), CPU vs point reference %.2e\n",
+	       peak, worst, worst_p, worst_ref);
 	assert_true(peak > 10.0);
 	/* GLSL float atan at the steep lower grid edge: measured 1.3e-3 locally. */
 	assert_true(worst < 5e-3);
+	assert_true(worst_p < 5e-3);
 	assert_true(worst_ref < 1e-4);
-	hl_gl_headlight_free(gl);
 	hl_headlight_free(cpu);
 	hl_gbuffer_free(gb);
 	free(dense[0]);
 	free(dense[1]);
 	free(lux);
 	free(lux_gl);
+	free(lux_glp);
 	hl_preset_free(p);
 	hl_lid_free(lamps[0]);
 	hl_lid_free(lamps[1]);
