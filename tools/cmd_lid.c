@@ -9,7 +9,7 @@
 
 #include "render/combine.h"
 #include "tools/commands.h"
-#include "tools/plot.h"
+#include "render/plot.h"
 #include "tools/preset.h"
 
 static void usage(FILE *f)

@@ -11,5 +11,6 @@ int hl_cmd_model(int argc, char **argv);
 int hl_cmd_lid(int argc, char **argv);
 int hl_cmd_dbc(int argc, char **argv);
 int hl_cmd_scenario(int argc, char **argv);
+int hl_cmd_render(int argc, char **argv);
 
 #endif

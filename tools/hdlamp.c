@@ -16,6 +16,7 @@ static const struct command commands[] = {
 	{ "lid", hl_cmd_lid, "inspect, combine and plot LID files (info, combine, plot)" },
 	{ "dbc", hl_cmd_dbc, "show CAN databases, decode candump logs, encode frames" },
 	{ "scenario", hl_cmd_scenario, "write the drive scenario (with faults) as a candump log" },
+	{ "render", hl_cmd_render, "render a still of a scene lit by the lamps (PNG or EXR)" },
 };
 
 static void usage(FILE *f)

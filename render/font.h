@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* A 5 x 7 bitmap font for labels on plots (digits, upper case, a little punctuation). */
-#ifndef HL_TOOLS_FONT_H
-#define HL_TOOLS_FONT_H
+#ifndef HL_RENDER_FONT_H
+#define HL_RENDER_FONT_H
 
 #include <stdint.h>
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-#include "tools/font.h"
+#include "render/font.h"
 
 #include <ctype.h>
 #include <string.h>

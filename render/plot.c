@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-#include "tools/plot.h"
+#include "render/plot.h"
 
 #include <errno.h>
 #include <math.h>
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tools/font.h"
+#include "render/font.h"
 
 #define DECADES 5 /* colour scale span */
 

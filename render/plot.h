@@ -4,8 +4,8 @@
  * scale (5 decades below the decade above the peak; black below), grid lines every 10° H and
  * 5° V, axes in degrees, a legend, written as an RGB PNG.
  */
-#ifndef HL_TOOLS_PLOT_H
-#define HL_TOOLS_PLOT_H
+#ifndef HL_RENDER_PLOT_H
+#define HL_RENDER_PLOT_H
 
 #include <stdint.h>
 

@@ -1,0 +1,17 @@
+# Turns render/shaders/*.glsl into one C file of strings: hl_shader_<name> (quad.vert.glsl: hl_shader_quad_vert).
+# Run as: cmake -DOUT_C=... -DOUT_H=... -DSHADERS="a.glsl|b.glsl" -P embed_shaders.cmake
+set(c "/* Generated from the .glsl files of render/shaders by render/embed_shaders.cmake. */\n#include \"render/shaders.h\"\n\n")
+set(h "/* Generated from the .glsl files of render/shaders by render/embed_shaders.cmake. */\n#ifndef HL_RENDER_SHADERS_H\n#define HL_RENDER_SHADERS_H\n\n")
+string(REPLACE "|" ";" shaders "${SHADERS}")
+foreach(src ${shaders})
+	get_filename_component(stem ${src} NAME)
+	string(REGEX REPLACE "\\.glsl$" "" stem "${stem}")
+	string(REPLACE "." "_" stem "${stem}")
+	file(READ ${src} hex HEX)
+	string(REGEX REPLACE "([0-9a-f][0-9a-f])" "0x\\1," bytes "${hex}")
+	string(APPEND c "const char hl_shader_${stem}[] = {${bytes}0x00};\n")
+	string(APPEND h "extern const char hl_shader_${stem}[];\n")
+endforeach()
+string(APPEND h "\n#endif\n")
+file(WRITE ${OUT_C} "${c}")
+file(WRITE ${OUT_H} "${h}")

@@ -1,0 +1,235 @@
+/* SPDX-License-Identifier: MIT */
+#include "render/frame_exr.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <openexr.h>
+
+struct exr_msg {
+	char text[256];
+};
+
+static void keep_message(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+	void *ud = NULL;
+
+	(void)code;
+	if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
+		snprintf(((struct exr_msg *)ud)->text, sizeof(((struct exr_msg *)ud)->text), "%s",
+			 msg);
+}
+
+static int fail(struct hl_lid_error *err, int rc, const char *path, const char *fmt, ...)
+{
+	va_list ap;
+	int n;
+
+	if (!err)
+		return rc;
+	n = snprintf(err->msg, sizeof(err->msg), "'%s': ", path);
+	if (n < 0 || (size_t)n >= sizeof(err->msg))
+		return rc;
+	va_start(ap, fmt);
+	vsnprintf(err->msg + n, sizeof(err->msg) - n, fmt, ap);
+	va_end(ap);
+	return rc;
+}
+
+uint16_t hl_half_from_float(float f)
+{
+	uint32_t x, sign, mant;
+	int32_t exp;
+
+	memcpy(&x, &f, sizeof(x));
+	sign = (x >> 16) & 0x8000u;
+	exp = (int32_t)((x >> 23) & 0xff) - 127 + 15;
+	mant = x & 0x7fffffu;
+	if (((x >> 23) & 0xff) == 0xff) /* inf, nan */
+		return (uint16_t)(sign | 0x7c00u | (mant ? 0x200u : 0));
+	if (exp >= 31)
+		return (uint16_t)(sign | 0x7c00u);
+	if (exp <= 0) {
+		uint32_t m, shift, half, rounded;
+
+		if (exp < -10)
+			return (uint16_t)sign;
+		m = mant | 0x800000u;
+		shift = (uint32_t)(14 - exp);
+		half = 1u << (shift - 1);
+		rounded = m >> shift;
+		if ((m & ((1u << shift) - 1)) > half ||
+		    ((m & ((1u << shift) - 1)) == half && (rounded & 1)))
+			rounded++;
+		return (uint16_t)(sign | rounded);
+	}
+	{
+		uint32_t h = sign | ((uint32_t)exp << 10) | (mant >> 13);
+		const uint32_t rest = mant & 0x1fffu;
+
+		/* Round to nearest even; a carry into the exponent is still correct. */
+		if (rest > 0x1000u || (rest == 0x1000u && (h & 1)))
+			h++;
+		return (uint16_t)h;
+	}
+}
+
+struct channel {
+	const char *name;
+	exr_pixel_type_t type;
+	const void *data; /* interleaved: stride bytes between pixels */
+	int stride;
+};
+
+static exr_result_t set_attributes(exr_context_t ctxt, int part,
+				   const struct hl_frame_exr_info *info, const char *unit)
+{
+	static const char *const side[2] = { "left", "right" };
+	exr_attr_m44f_t m;
+	exr_result_t rv;
+	float f[16];
+
+	hl_camera_world_to_camera(info->camera, f);
+	memcpy(m.m, f, sizeof(m.m));
+	rv = exr_attr_set_m44f(ctxt, part, "worldToCamera", &m);
+	hl_camera_world_to_ndc(info->camera, f);
+	memcpy(m.m, f, sizeof(m.m));
+	if (rv == EXR_ERR_SUCCESS)
+		rv = exr_attr_set_m44f(ctxt, part, "worldToNDC", &m);
+	if (rv == EXR_ERR_SUCCESS)
+		rv = exr_attr_set_string(ctxt, part, "hdlamp:unit", unit);
+	for (int k = 0; k < info->n_lamps && rv == EXR_ERR_SUCCESS; k++) {
+		const struct hl_lamp_pose *p = &info->lamps[k];
+		exr_attr_v3f_t pos = { .x = (float)p->pos_m[0],
+				       .y = (float)p->pos_m[1],
+				       .z = (float)p->pos_m[2] };
+		exr_attr_v2f_t aim = { .x = (float)p->yaw_deg, .y = (float)p->pitch_deg };
+		char name[64];
+
+		snprintf(name, sizeof(name), "hdlamp:%sPosition", side[k]);
+		rv = exr_attr_set_v3f(ctxt, part, name, &pos);
+		snprintf(name, sizeof(name), "hdlamp:%sAim", side[k]);
+		if (rv == EXR_ERR_SUCCESS)
+			rv = exr_attr_set_v2f(ctxt, part, name, &aim);
+	}
+	return rv;
+}
+
+static exr_result_t write_chunks(exr_context_t ctxt, int width, int height,
+				 const struct channel *ch, int n_ch)
+{
+	exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+	bool have_enc = false;
+	exr_result_t rv = EXR_ERR_SUCCESS;
+	int lines = 1;
+
+	rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines);
+	for (int y = 0; rv == EXR_ERR_SUCCESS && y < height; y += lines) {
+		exr_chunk_info_t cinfo;
+
+		rv = exr_write_scanline_chunk_info(ctxt, 0, y, &cinfo);
+		if (rv != EXR_ERR_SUCCESS)
+			break;
+		rv = have_enc ? exr_encoding_update(ctxt, 0, &cinfo, &enc) :
+				exr_encoding_initialize(ctxt, 0, &cinfo, &enc);
+		if (rv != EXR_ERR_SUCCESS)
+			break;
+		/* The library sorts channels by name; match them back by name. */
+		for (int c = 0; c < enc.channel_count; c++) {
+			exr_coding_channel_info_t *e = &enc.channels[c];
+
+			for (int j = 0; j < n_ch; j++) {
+				const int bytes = ch[j].type == EXR_PIXEL_HALF ? 2 : 4;
+
+				if (strcmp(e->channel_name, ch[j].name) != 0)
+					continue;
+				e->encode_from_ptr = (const uint8_t *)ch[j].data +
+						     (size_t)y * width * ch[j].stride;
+				e->user_pixel_stride = ch[j].stride;
+				e->user_line_stride = ch[j].stride * width;
+				e->user_bytes_per_element = bytes;
+				e->user_data_type = ch[j].type;
+			}
+		}
+		if (!have_enc)
+			rv = exr_encoding_choose_default_routines(ctxt, 0, &enc);
+		have_enc = true;
+		if (rv == EXR_ERR_SUCCESS)
+			rv = exr_encoding_run(ctxt, 0, &enc);
+	}
+	if (have_enc)
+		exr_encoding_destroy(ctxt, &enc);
+	(void)height;
+	return rv;
+}
+
+static int write_file(const char *path, int width, int height, const struct channel *ch, int n_ch,
+		      const struct hl_frame_exr_info *info, const char *unit,
+		      struct hl_lid_error *err)
+{
+	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+	struct exr_msg msg = { "" };
+	exr_context_t ctxt;
+	exr_result_t rv;
+	int part, rc = 0;
+
+	if (width < 1 || height < 1 || info->n_lamps < 0 || info->n_lamps > 2)
+		return fail(err, -EINVAL, path, "bad image size or lamp count");
+	init.error_handler_fn = keep_message;
+	init.user_data = &msg;
+	rv = exr_start_write(&ctxt, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+	if (rv != EXR_ERR_SUCCESS)
+		return fail(err, -EIO, path, "cannot create (%s)",
+			    msg.text[0] ? msg.text : exr_get_default_error_message(rv));
+	rv = exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
+	if (rv == EXR_ERR_SUCCESS)
+		rv = exr_initialize_required_attr_simple(ctxt, part, width, height,
+							 EXR_COMPRESSION_ZIP);
+	for (int c = 0; c < n_ch && rv == EXR_ERR_SUCCESS; c++)
+		rv = exr_add_channel(ctxt, part, ch[c].name, ch[c].type, EXR_PERCEPTUALLY_LINEAR, 1,
+				     1);
+	if (rv == EXR_ERR_SUCCESS)
+		rv = set_attributes(ctxt, part, info, unit);
+	if (rv == EXR_ERR_SUCCESS)
+		rv = exr_write_header(ctxt);
+	if (rv == EXR_ERR_SUCCESS)
+		rv = write_chunks(ctxt, width, height, ch, n_ch);
+	if (rv != EXR_ERR_SUCCESS)
+		rc = fail(err, -EIO, path, "cannot write (%s)",
+			  msg.text[0] ? msg.text : exr_get_default_error_message(rv));
+	rv = exr_finish(&ctxt);
+	if (rc == 0 && rv != EXR_ERR_SUCCESS)
+		rc = fail(err, -EIO, path, "cannot finish (%s)", exr_get_default_error_message(rv));
+	return rc;
+}
+
+int hl_frame_exr_write_hdr(const char *path, int width, int height, const float *rgba,
+			   const struct hl_frame_exr_info *info, struct hl_lid_error *err)
+{
+	const size_t n = (size_t)width * height * 4;
+	uint16_t *half = malloc(sizeof(uint16_t) * (n ? n : 1));
+	struct channel ch[4];
+	static const char *const names[4] = { "R", "G", "B", "A" };
+	int rc;
+
+	if (!half)
+		return fail(err, -ENOMEM, path, "out of memory");
+	for (size_t i = 0; i < n; i++)
+		half[i] = hl_half_from_float(rgba[i]);
+	for (int c = 0; c < 4; c++)
+		ch[c] = (struct channel){ names[c], EXR_PIXEL_HALF, half + c, 8 };
+	rc = write_file(path, width, height, ch, 4, info, "cd/m2", err);
+	free(half);
+	return rc;
+}
+
+int hl_frame_exr_write_lux(const char *path, int width, int height, const float *lux,
+			   const struct hl_frame_exr_info *info, struct hl_lid_error *err)
+{
+	const struct channel ch = { "E", EXR_PIXEL_FLOAT, lux, 4 };
+
+	return write_file(path, width, height, &ch, 1, info, "lx", err);
+}

@@ -1,0 +1,36 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Rendered frames as OpenEXR (OpenEXRCore): an HDR frame (R, G, B, A as HALF, linear
+ * luminance in cd/m^2) or an illuminance image (one FLOAT channel "E", lux). Every file
+ * carries the standard camera attributes worldToCamera and worldToNDC (m44f, see
+ * hl_camera_world_to_camera), so any tool can map a pixel back to its ray, and the lamp poses:
+ * hdlamp:leftPosition / hdlamp:rightPosition (v3f, m, vehicle frame), hdlamp:leftAim /
+ * hdlamp:rightAim (v2f: yaw, pitch in degrees), and hdlamp:unit ("cd/m2" or "lx").
+ *
+ * Thread-safety: any thread; the buffers are only read.
+ */
+#ifndef HL_RENDER_FRAME_EXR_H
+#define HL_RENDER_FRAME_EXR_H
+
+#include <stdint.h>
+
+#include "render/camera.h"
+#include "render/lid.h"
+
+struct hl_frame_exr_info {
+	const struct hl_camera *camera;
+	int n_lamps; /* 1 or 2 */
+	struct hl_lamp_pose lamps[2];
+};
+
+/* rgba: 4 floats per pixel, row 0 at the top. 0, -EINVAL, -EIO, -ENOMEM; err names the file. */
+int hl_frame_exr_write_hdr(const char *path, int width, int height, const float *rgba,
+			   const struct hl_frame_exr_info *info, struct hl_lid_error *err);
+/* lux: one float per pixel. */
+int hl_frame_exr_write_lux(const char *path, int width, int height, const float *lux,
+			   const struct hl_frame_exr_info *info, struct hl_lid_error *err);
+
+/* IEEE binary16 of f, rounded to nearest even; overflow gives infinity. */
+uint16_t hl_half_from_float(float f);
+
+#endif

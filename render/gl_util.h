@@ -1,0 +1,20 @@
+/* SPDX-License-Identifier: MIT */
+/* Small GL helpers shared by the GLES stages of render/ (current context's thread only). */
+#ifndef HL_RENDER_GL_UTIL_H
+#define HL_RENDER_GL_UTIL_H
+
+#include <stdbool.h>
+
+#include <GLES3/gl31.h>
+
+/* An R32F (or RGBA32F when rgba) texture, nearest, clamped; data may be NULL. 0 on failure. */
+GLuint hl_gl_texture_float(int width, int height, bool rgba, const float *data);
+/* A framebuffer with tex as colour attachment 0; 0 when incomplete. */
+GLuint hl_gl_framebuffer(GLuint tex);
+/*
+ * Reads an R32F colour attachment of the bound read framebuffer (width x height) into out.
+ * scratch (4 * width * height floats) is used when the driver only offers RGBA. 0 or -EIO.
+ */
+int hl_gl_read_red_float(int width, int height, float *out, float *scratch);
+
+#endif

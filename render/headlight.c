@@ -1,0 +1,243 @@
+/* SPDX-License-Identifier: MIT */
+#include "render/headlight.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/angles.h"
+
+#define DEG (M_PI / 180.0)
+#define WEIGHT_ONE 65535.0f /* bilinear weights are stored as 16-bit fractions */
+
+/*
+ * What a frame needs of one lamp at one pixel: 12 bytes. g = 0 when the lamp does not reach
+ * the pixel (cell 0 is then read and multiplied by zero: cheaper than a branch).
+ */
+struct term {
+	uint32_t cell; /* index of the cell's upper-left sample in the dense grid */
+	uint16_t tx, ty; /* bilinear weights towards column + 1 and row + 1 */
+	float g; /* cos(eps) / r^2, 1/m^2 */
+};
+
+/* A run of consecutive pixels that at least one lamp reaches. */
+struct span {
+	uint32_t first, count;
+};
+
+struct hl_headlight {
+	int width, height;
+	int n_lamps;
+	struct hl_headlight_lamp lamps[HL_HEADLIGHT_MAX_LAMPS];
+	struct span *spans;
+	size_t n_spans;
+	struct term *terms; /* n_lamps per lit pixel, in pixel order, lamps interleaved */
+	size_t n_lit; /* pixels in the spans */
+	size_t work; /* pixel-lamp pairs with g > 0 */
+};
+
+/*
+ * Continuous sample coordinates of direction d (lamp space) on grid g; false outside the
+ * measured range, where the lookup is zero.
+ */
+static bool sample_coords(const struct hl_lid_grid *g, const double d[3], double *fx, double *fy)
+{
+	double h, v;
+
+	hl_angles_from_dir(g->angles, d, &h, &v);
+	*fx = (h / DEG - g->h_first_deg) * (g->width - 1) /
+	      ((double)g->h_last_deg - g->h_first_deg);
+	*fy = ((double)g->v_last_deg - v / DEG) * (g->height - 1) /
+	      ((double)g->v_last_deg - g->v_first_deg);
+	return *fx >= 0.0 && *fx <= g->width - 1 && *fy >= 0.0 && *fy <= g->height - 1;
+}
+
+/* Lamp-space offset d of point p, and cos(eps) / r^2 for normal n (0 when facing away). */
+static double geometry(const struct hl_lamp_pose *pose, const double p[3], const double n[3],
+		       double d[3])
+{
+	double x[3], y[3], z[3], w[3], r2, cos_eps;
+
+	hl_lamp_basis(pose, x, y, z);
+	for (int i = 0; i < 3; i++)
+		w[i] = p[i] - pose->pos_m[i];
+	d[0] = w[0] * x[0] + w[1] * x[1] + w[2] * x[2];
+	d[1] = w[0] * y[0] + w[1] * y[1] + w[2] * y[2];
+	d[2] = w[0] * z[0] + w[1] * z[1] + w[2] * z[2];
+	r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+	if (!(r2 > 0.0))
+		return 0.0;
+	cos_eps = -(n[0] * w[0] + n[1] * w[1] + n[2] * w[2]) / sqrt(r2);
+	return cos_eps > 0.0 ? cos_eps / r2 : 0.0;
+}
+
+/* The term of one lamp at one G-buffer entry; g = 0 when it does not light it. */
+static struct term make_term(const struct hl_headlight_lamp *lamp, const float *pf, const float *nf)
+{
+	const struct hl_lid_grid *g = &lamp->grid;
+	const double p[3] = { pf[0], pf[1], pf[2] }, nn[3] = { nf[0], nf[1], nf[2] };
+	double d[3], fx, fy, geo;
+	int x0, y0;
+
+	if (nf[3] == (float)HL_SURF_NONE)
+		return (struct term){ 0 };
+	geo = geometry(&lamp->pose, p, nn, d);
+	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
+		return (struct term){ 0 };
+	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
+	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
+	return (struct term){
+		.cell = (uint32_t)((size_t)y0 * g->width + x0),
+		.tx = (uint16_t)lrint((fx - x0) * WEIGHT_ONE),
+		.ty = (uint16_t)lrint((fy - y0) * WEIGHT_ONE),
+		.g = (float)geo,
+	};
+}
+
+static int precompute(struct hl_headlight *h, const struct hl_gbuffer *gb)
+{
+	const size_t npix = (size_t)gb->width * gb->height;
+	const int nl = h->n_lamps;
+	size_t n_lit = 0, n_spans = 0;
+	bool prev_lit = false;
+
+	h->terms = malloc(sizeof(*h->terms) * nl * (npix ? npix : 1));
+	h->spans = malloc(sizeof(*h->spans) * (npix / 2 + 1));
+	if (!h->terms || !h->spans)
+		return -ENOMEM;
+	for (size_t i = 0; i < npix; i++) {
+		struct term t[HL_HEADLIGHT_MAX_LAMPS];
+		bool lit = false;
+
+		for (int k = 0; k < nl; k++) {
+			t[k] = make_term(&h->lamps[k], gb->pos + 4 * i, gb->nrm + 4 * i);
+			lit |= t[k].g > 0.0f;
+			h->work += t[k].g > 0.0f;
+		}
+		if (!lit) {
+			prev_lit = false;
+			continue;
+		}
+		if (!prev_lit)
+			h->spans[n_spans++] = (struct span){ (uint32_t)i, 0 };
+		h->spans[n_spans - 1].count++;
+		memcpy(h->terms + n_lit * nl, t, sizeof(*t) * nl);
+		n_lit++;
+		prev_lit = true;
+	}
+	h->n_lit = n_lit;
+	h->n_spans = n_spans;
+	/* Shrinking cannot fail in practice; keep the larger block if it does. */
+	{
+		struct term *t = realloc(h->terms, sizeof(*t) * nl * (n_lit ? n_lit : 1));
+		struct span *s = realloc(h->spans, sizeof(*s) * (n_spans ? n_spans : 1));
+
+		h->terms = t ? t : h->terms;
+		h->spans = s ? s : h->spans;
+	}
+	return 0;
+}
+
+int hl_headlight_new(const struct hl_gbuffer *gb, int n_lamps,
+		     const struct hl_headlight_lamp *lamps, struct hl_headlight **ret)
+{
+	struct hl_headlight *h;
+	int rc;
+
+	if (n_lamps < 1 || n_lamps > HL_HEADLIGHT_MAX_LAMPS)
+		return -EINVAL;
+	for (int k = 0; k < n_lamps; k++)
+		if (hl_lid_grid_check(&lamps[k].grid) < 0)
+			return -EINVAL;
+	h = calloc(1, sizeof(*h));
+	if (!h)
+		return -ENOMEM;
+	h->width = gb->width;
+	h->height = gb->height;
+	h->n_lamps = n_lamps;
+	memcpy(h->lamps, lamps, sizeof(*lamps) * n_lamps);
+	rc = precompute(h, gb);
+	if (rc < 0) {
+		hl_headlight_free(h);
+		return rc;
+	}
+	*ret = h;
+	return 0;
+}
+
+void hl_headlight_free(struct hl_headlight *h)
+{
+	if (!h)
+		return;
+	free(h->terms);
+	free(h->spans);
+	free(h);
+}
+
+static inline float lookup(const struct term *t, const float *restrict s0, size_t w)
+{
+	const float scale = 1.0f / WEIGHT_ONE;
+	const float *s = s0 + t->cell;
+	const float tx = t->tx * scale, ty = t->ty * scale;
+	const float top = s[0] + tx * (s[1] - s[0]);
+	const float bottom = s[w] + tx * (s[w + 1] - s[w]);
+
+	return t->g * (top + ty * (bottom - top));
+}
+
+void hl_headlight_run(const struct hl_headlight *h, const float *const *dense, float *lux)
+{
+	const struct term *t = h->terms;
+	const float *d0 = dense[0], *d1 = h->n_lamps > 1 ? dense[1] : NULL;
+	const size_t w0 = (size_t)h->lamps[0].grid.width;
+	const size_t w1 = h->n_lamps > 1 ? (size_t)h->lamps[1].grid.width : 0;
+	size_t prev_end = 0;
+
+	for (size_t s = 0; s < h->n_spans; s++) {
+		const struct span sp = h->spans[s];
+		float *restrict out = lux + sp.first;
+
+		/* Pixels between spans no lamp reaches. */
+		memset(lux + prev_end, 0, sizeof(float) * (sp.first - prev_end));
+		prev_end = (size_t)sp.first + sp.count;
+		if (h->n_lamps == 1) {
+			for (uint32_t j = 0; j < sp.count; j++, t++)
+				out[j] = d0 ? lookup(t, d0, w0) : 0.0f;
+		} else {
+			for (uint32_t j = 0; j < sp.count; j++, t += 2)
+				out[j] = (d0 ? lookup(&t[0], d0, w0) : 0.0f) +
+					 (d1 ? lookup(&t[1], d1, w1) : 0.0f);
+		}
+	}
+	memset(lux + prev_end, 0, sizeof(float) * ((size_t)h->width * h->height - prev_end));
+}
+
+size_t hl_headlight_work(const struct hl_headlight *h)
+{
+	return h->work;
+}
+
+double hl_headlight_point(const struct hl_headlight_lamp *lamp, const float *dense,
+			  const double p[3], const double n[3])
+{
+	const struct hl_lid_grid *g = &lamp->grid;
+	double d[3], fx, fy, geo, tx, ty;
+	int x0, y0;
+
+	geo = geometry(&lamp->pose, p, n, d);
+	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
+		return 0.0;
+	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
+	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
+	tx = fx - x0;
+	ty = fy - y0;
+	{
+		const float *s = dense + (size_t)y0 * g->width + x0;
+		const double top = s[0] * (1 - tx) + s[1] * tx;
+		const double bottom = s[g->width] * (1 - tx) + s[g->width + 1] * tx;
+
+		return geo * (top * (1 - ty) + bottom * ty);
+	}
+}

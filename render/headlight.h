@@ -1,0 +1,54 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The headlight pass on the CPU (DESIGN.md §1, §4): every G-buffer point is lit by each lamp
+ * with E = I(H, V) * cos(eps) / r^2 (lux), (H, V) the direction of the point in lamp space in
+ * the lamp's angle system (type A or B, exact), I a bilinear lookup of the lamp's combined
+ * distribution with samples at texel centres and zero outside the grid. Lamps add.
+ *
+ * Scene, camera and lamp poses are static between frames, so hl_headlight_new() computes per
+ * pixel and lamp what does not depend on the currents: the sample cell, the bilinear weights
+ * and cos(eps) / r^2. A frame (hl_headlight_run) is then only the four lookups, the
+ * weighting and the sum, over the pixels a lamp can reach.
+ *
+ * Thread-safety: one thread per object (the render thread); the G-buffer is read only in _new.
+ */
+#ifndef HL_RENDER_HEADLIGHT_H
+#define HL_RENDER_HEADLIGHT_H
+
+#include "render/camera.h"
+#include "render/lid.h"
+#include "render/scene.h"
+
+#define HL_HEADLIGHT_MAX_LAMPS 2
+
+struct hl_headlight;
+
+/* A lamp as the pass sees it: where it is and the grid of its distributions. */
+struct hl_headlight_lamp {
+	struct hl_lamp_pose pose;
+	struct hl_lid_grid grid;
+};
+
+/* 0, -EINVAL (n_lamps outside 1..2, bad grid), -ENOMEM. */
+int hl_headlight_new(const struct hl_gbuffer *gb, int n_lamps,
+		     const struct hl_headlight_lamp *lamps, struct hl_headlight **ret);
+void hl_headlight_free(struct hl_headlight *h);
+
+/*
+ * Illuminance of every pixel (width * height floats, lux, row 0 at the top) from the lamps'
+ * current distributions dense[k] (grid layout, cd); dense[k] NULL leaves lamp k dark.
+ * Allocates nothing.
+ */
+void hl_headlight_run(const struct hl_headlight *h, const float *const *dense, float *ret_lux);
+
+/* Pixel-lamp pairs a frame visits (the work of one frame). */
+size_t hl_headlight_work(const struct hl_headlight *h);
+
+/*
+ * The same quantity for one point, without any precomputation, in double precision: the
+ * reference the fast paths are checked against. p, n in the vehicle frame (n unit).
+ */
+double hl_headlight_point(const struct hl_headlight_lamp *lamp, const float *dense,
+			  const double p[3], const double n[3]);
+
+#endif

@@ -1,0 +1,302 @@
+/* SPDX-License-Identifier: MIT */
+#include "render/renderer.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <GLES3/gl31.h>
+
+#include "render/combine.h"
+#include "render/gl_combine.h"
+#include "render/gl_headlight.h"
+#include "render/headlight.h"
+
+struct hl_renderer {
+	int n_lamps;
+	int width, height;
+	enum hl_backend combine, headlight;
+	const struct hl_lid *lids[2];
+	struct hl_combiner *cpu_comb[2];
+	struct hl_gl_combiner *gl_comb[2];
+	struct hl_headlight *cpu_light;
+	struct hl_gl_headlight *gl_light;
+	float *dense[2]; /* combined distributions on the CPU (or a combined lid's copy) */
+	bool dense_stale[2]; /* GL combine ran since dense was read back */
+	bool dirty[2]; /* currents changed since the last frame */
+};
+
+static const char *const backend_names[] = { "auto", "cpu", "gles" };
+
+int hl_backend_from_name(const char *name)
+{
+	for (int i = 0; i < 3; i++)
+		if (strcmp(name, backend_names[i]) == 0)
+			return i;
+	return -EINVAL;
+}
+
+const char *hl_backend_name(enum hl_backend b)
+{
+	return backend_names[b];
+}
+
+static double now_ms(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+#define PICK_RUNS 5 /* timed updates per candidate */
+
+/*
+ * AUTO for the combiner: times the CPU reference and the GLES box quads on this lamp (a full
+ * combine, then incremental updates of ten sources, as an ECU cycle) and returns the faster.
+ * On llvmpipe the CPU wins by about 40x; on a real GPU the upload-free GLES path may.
+ */
+static enum hl_backend pick_combine(const struct hl_lid *lid)
+{
+	const int n = hl_lid_n_sources(lid);
+	struct hl_combiner *cpu = NULL;
+	struct hl_gl_combiner *gl = NULL;
+	float *i = calloc(n, sizeof(float));
+	double t_cpu = 0.0, t_gl = 0.0;
+	enum hl_backend best = HL_BACKEND_CPU;
+
+	if (!i || hl_combiner_new(lid, 0, &cpu) < 0 ||
+	    hl_gl_combiner_new(lid, HL_GL_COMBINE_BOXES, 0, &gl, NULL, 0) < 0)
+		goto out;
+	for (int r = 0; r <= PICK_RUNS; r++) {
+		double t0;
+
+		for (int j = 0; j < n; j++)
+			i[j] = r == 0 ? 1.0f :
+					(j % PICK_RUNS == r - 1 ? 0.5f * r / PICK_RUNS : i[j]);
+		t0 = now_ms();
+		hl_combiner_update(cpu, i);
+		t_cpu += now_ms() - t0;
+		t0 = now_ms();
+		hl_gl_combiner_update(gl, i);
+		glFinish();
+		t_gl += now_ms() - t0;
+	}
+	best = t_gl < t_cpu ? HL_BACKEND_GLES : HL_BACKEND_CPU;
+out:
+	hl_combiner_free(cpu);
+	hl_gl_combiner_free(gl);
+	free(i);
+	return best;
+}
+
+/* AUTO for the headlight pass: one timed frame of each (after the shader's first run). */
+static enum hl_backend pick_headlight(struct hl_renderer *r, const struct hl_gbuffer *gb,
+				      const struct hl_headlight_lamp *lamps, float *lux)
+{
+	const float *dense[2] = { r->dense[0], r->dense[1] };
+	double t_cpu, t_gl, t0;
+
+	if (hl_headlight_new(gb, r->n_lamps, lamps, &r->cpu_light) < 0)
+		return HL_BACKEND_CPU;
+	if (hl_gl_headlight_new(gb, r->n_lamps, lamps, HL_GL_HEADLIGHT_PRECOMPUTED, &r->gl_light,
+				NULL, 0) < 0)
+		return HL_BACKEND_CPU;
+	for (int k = 0; k < r->n_lamps; k++)
+		hl_gl_headlight_upload(r->gl_light, k, r->dense[k]);
+	hl_gl_headlight_run(r->gl_light);
+	glFinish();
+	t0 = now_ms();
+	hl_gl_headlight_run(r->gl_light);
+	hl_gl_headlight_read(r->gl_light, lux);
+	t_gl = now_ms() - t0;
+	t0 = now_ms();
+	hl_headlight_run(r->cpu_light, dense, lux);
+	t_cpu = now_ms() - t0;
+	return t_gl < t_cpu ? HL_BACKEND_GLES : HL_BACKEND_CPU;
+}
+
+int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffer *gb,
+		    struct hl_renderer **ret)
+{
+	struct hl_headlight_lamp lamps[2];
+	struct hl_renderer *r;
+	int rc = 0;
+
+	if (cfg->n_lamps < 1 || cfg->n_lamps > 2)
+		return -EINVAL;
+	r = calloc(1, sizeof(*r));
+	if (!r)
+		return -ENOMEM;
+	r->n_lamps = cfg->n_lamps;
+	r->width = gb->width;
+	r->height = gb->height;
+	r->combine = cfg->combine;
+	r->headlight = cfg->headlight;
+	if (!cfg->egl) {
+		r->combine = r->combine == HL_BACKEND_AUTO ? HL_BACKEND_CPU : r->combine;
+		r->headlight = r->headlight == HL_BACKEND_AUTO ? HL_BACKEND_CPU : r->headlight;
+	}
+	if ((r->combine == HL_BACKEND_GLES || r->headlight == HL_BACKEND_GLES) && !cfg->egl) {
+		rc = -ENODEV;
+		goto err_free;
+	}
+	for (int k = 0; k < r->n_lamps; k++) {
+		const struct hl_lid *lid = cfg->lids[k];
+		const struct hl_lid_grid *g = hl_lid_grid(lid);
+
+		r->lids[k] = lid;
+		lamps[k] = (struct hl_headlight_lamp){ cfg->poses[k], *g };
+		r->dense[k] = calloc((size_t)g->width * g->height, sizeof(float));
+		if (!r->dense[k]) {
+			rc = -ENOMEM;
+			goto err_free;
+		}
+		r->dirty[k] = true;
+		if (hl_lid_is_combined(lid)) {
+			hl_lid_source_dense(lid, 0, r->dense[k]);
+			continue;
+		}
+		if (r->combine == HL_BACKEND_AUTO)
+			r->combine = pick_combine(lid);
+		if (r->combine == HL_BACKEND_GLES)
+			rc = hl_gl_combiner_new(lid, HL_GL_COMBINE_BOXES, 0, &r->gl_comb[k], NULL,
+						0);
+		else
+			rc = hl_combiner_new(lid, 0, &r->cpu_comb[k]);
+		if (rc < 0)
+			goto err_free;
+	}
+	if (r->combine == HL_BACKEND_AUTO) /* only combined distributions: nothing to combine */
+		r->combine = HL_BACKEND_CPU;
+	if (r->headlight == HL_BACKEND_AUTO) {
+		float *lux = malloc(sizeof(float) * (size_t)gb->width * gb->height);
+
+		if (!lux) {
+			rc = -ENOMEM;
+			goto err_free;
+		}
+		r->headlight = pick_headlight(r, gb, lamps, lux);
+		free(lux);
+		/* Keep the winner only. */
+		if (r->headlight == HL_BACKEND_GLES) {
+			hl_headlight_free(r->cpu_light);
+			r->cpu_light = NULL;
+		} else {
+			hl_gl_headlight_free(r->gl_light);
+			r->gl_light = NULL;
+		}
+	}
+	if (r->headlight == HL_BACKEND_GLES && !r->gl_light)
+		rc = hl_gl_headlight_new(gb, r->n_lamps, lamps, HL_GL_HEADLIGHT_PRECOMPUTED,
+					 &r->gl_light, NULL, 0);
+	else if (r->headlight == HL_BACKEND_CPU && !r->cpu_light)
+		rc = hl_headlight_new(gb, r->n_lamps, lamps, &r->cpu_light);
+	if (rc < 0)
+		goto err_free;
+	for (int k = 0; r->gl_light && k < r->n_lamps; k++)
+		r->dirty[k] = true;
+	*ret = r;
+	return 0;
+
+err_free:
+	hl_renderer_free(r);
+	return rc;
+}
+
+void hl_renderer_free(struct hl_renderer *r)
+{
+	if (!r)
+		return;
+	for (int k = 0; k < 2; k++) {
+		hl_combiner_free(r->cpu_comb[k]);
+		hl_gl_combiner_free(r->gl_comb[k]);
+		free(r->dense[k]);
+	}
+	hl_headlight_free(r->cpu_light);
+	hl_gl_headlight_free(r->gl_light);
+	free(r);
+}
+
+enum hl_backend hl_renderer_combine_backend(const struct hl_renderer *r)
+{
+	return r->combine;
+}
+
+enum hl_backend hl_renderer_headlight_backend(const struct hl_renderer *r)
+{
+	return r->headlight;
+}
+
+int hl_renderer_set_currents(struct hl_renderer *r, int k, const float *i)
+{
+	int changed;
+
+	if (k < 0 || k >= r->n_lamps)
+		return -EINVAL;
+	if (hl_lid_is_combined(r->lids[k]))
+		return 0;
+	if (r->gl_comb[k]) {
+		changed = hl_gl_combiner_update(r->gl_comb[k], i);
+		r->dense_stale[k] |= changed > 0;
+	} else {
+		changed = hl_combiner_update(r->cpu_comb[k], i);
+	}
+	if (changed > 0)
+		r->dirty[k] = true;
+	return changed;
+}
+
+/* The CPU copy of lamp k's distribution, read back from GL when it changed there. */
+static const float *cpu_dense(struct hl_renderer *r, int k)
+{
+	if (r->cpu_comb[k])
+		return hl_combiner_result(r->cpu_comb[k]);
+	if (r->gl_comb[k] && r->dense_stale[k]) {
+		if (hl_gl_combiner_read(r->gl_comb[k], r->dense[k]) < 0)
+			return NULL;
+		r->dense_stale[k] = false;
+	}
+	return r->dense[k];
+}
+
+int hl_renderer_frame(struct hl_renderer *r, float *ret_lux)
+{
+	if (r->cpu_light) {
+		const float *dense[2] = { NULL, NULL };
+
+		for (int k = 0; k < r->n_lamps; k++) {
+			dense[k] = cpu_dense(r, k);
+			if (!dense[k])
+				return -EIO;
+		}
+		hl_headlight_run(r->cpu_light, dense, ret_lux);
+		return 0;
+	}
+	for (int k = 0; k < r->n_lamps; k++) {
+		if (r->gl_comb[k]) {
+			hl_gl_headlight_use_texture(r->gl_light, k,
+						    hl_gl_combiner_texture(r->gl_comb[k]));
+		} else if (r->dirty[k]) {
+			const float *d = r->cpu_comb[k] ? hl_combiner_result(r->cpu_comb[k]) :
+							  r->dense[k];
+
+			if (hl_gl_headlight_upload(r->gl_light, k, d) < 0)
+				return -EIO;
+		}
+		r->dirty[k] = false;
+	}
+	hl_gl_headlight_run(r->gl_light);
+	return hl_gl_headlight_read(r->gl_light, ret_lux);
+}
+
+const float *hl_renderer_distribution(struct hl_renderer *r, int k)
+{
+	return cpu_dense(r, k);
+}
+
+const struct hl_lid_grid *hl_renderer_grid(const struct hl_renderer *r, int k)
+{
+	return hl_lid_grid(r->lids[k]);
+}

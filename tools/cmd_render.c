@@ -1,0 +1,528 @@
+/* SPDX-License-Identifier: MIT */
+/* hdlamp render: a still of a built-in scene lit by the lamp pair, as PNG or EXR. */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "render/egl.h"
+#include "render/frame_exr.h"
+#include "render/plot.h"
+#include "render/renderer.h"
+#include "render/scene.h"
+#include "render/view.h"
+#include "tools/commands.h"
+#include "tools/model.h"
+#include "tools/preset.h"
+
+#define DEFAULT_EXPOSURE_EV 0.0 /* 1 cd/m^2 maps to half of full scale */
+#define BIRD_EXPOSURE_EV 2.0 /* from above most of the road is far and dim */
+#define SPHERE_EXPOSURE_EV (-3.0) /* 10 m from the lamp the sphere gets up to ~250 lx */
+
+static void usage(FILE *f)
+{
+	fprintf(f,
+		"usage: hdlamp render (--lamps DIR | --lid LEFT.lid.exr [--lid RIGHT.lid.exr])\n"
+		"                     --out FILE.png|FILE.exr [options]\n"
+		"\n"
+		"Renders a still of a built-in scene lit by the lamps.\n"
+		"\n"
+		"  --lamps DIR          DIR/hd84_left.lid.exr and DIR/hd84_right.lid.exr\n"
+		"  --lid FILE           a lamp file; the first is the left lamp, the second the right\n"
+		"                       (one --lid: the left lamp only)\n"
+		"  --preset NAME|FILE   low (default), high, glarefree, bend_left, bend_right\n"
+		"                       (DIR/NAME.json with --lamps, else the built-in HD84 preset),\n"
+		"                       or a preset .json file; ignored for combined distributions\n"
+		"  --scene S            sphere | wall | road (default) | bird\n"
+		"  --view V             display (default) | hdr | lux | lid\n"
+		"  --size WxH           image size, default 1280x720\n"
+		"  --out FILE           .png (display, lux, lid) or .exr (hdr: RGBA half luminance;\n"
+		"                       lux: channel E in lux; lid: the combined distribution)\n"
+		"  --exposure EV        display exposure, default %.1f (bird: %.1f, sphere: %.1f)\n"
+		"  --iso L1,L2,...      iso-lux lines of the lux view, default 1,3,5,10,20,50\n"
+		"  --wall-distance M    wall scene: distance of the screen, default 25\n"
+		"  --camera-pos X,Y,Z   camera position (m, vehicle frame: x fwd, y left, z up)\n"
+		"  --camera-dir X,Y,Z   viewing direction\n"
+		"  --fov DEG            vertical field of view\n"
+		"  --left-pos X,Y,Z     left lamp position, default 0,0.7,0.65\n"
+		"  --left-aim YAW,PITCH left lamp aim, degrees (yaw + left, pitch + up), default 0,-0.573\n"
+		"  --right-pos, --right-aim  the same for the right lamp (default y -0.7)\n"
+		"  --lamp left|right    lid view: which lamp, default left\n"
+		"  --backend B          auto (default) | cpu | gles: where combine and headlight run\n",
+		DEFAULT_EXPOSURE_EV, BIRD_EXPOSURE_EV, SPHERE_EXPOSURE_EV);
+}
+
+struct options {
+	const char *lamps_dir, *lid[2], *preset, *out;
+	int n_lid;
+	enum hl_scene_kind scene;
+	enum hl_view_kind view;
+	int width, height;
+	double exposure_ev, wall_distance_m, fov_deg;
+	double camera_pos[3], camera_dir[3];
+	bool have_camera_pos, have_camera_dir;
+	struct hl_lamp_pose poses[2];
+	struct hl_view_lux_opts lux;
+	int lamp;
+	enum hl_backend backend;
+};
+
+static int parse_doubles(const char *s, double *out, int n)
+{
+	char *end;
+
+	for (int i = 0; i < n; i++) {
+		errno = 0;
+		out[i] = strtod(s, &end);
+		if (errno || end == s || !isfinite(out[i]))
+			return -EINVAL;
+		if (i < n - 1) {
+			if (*end != ',')
+				return -EINVAL;
+			s = end + 1;
+		}
+	}
+	return *end ? -EINVAL : 0;
+}
+
+static int parse_iso(const char *s, struct hl_view_lux_opts *o)
+{
+	char *end;
+
+	o->n_iso = 0;
+	while (*s) {
+		double v;
+
+		if (o->n_iso == HL_VIEW_MAX_ISO)
+			return -EINVAL;
+		errno = 0;
+		v = strtod(s, &end);
+		if (errno || end == s || !(v > 0.0) || !isfinite(v) || (*end && *end != ','))
+			return -EINVAL;
+		o->iso_lx[o->n_iso++] = v;
+		s = *end ? end + 1 : end;
+	}
+	return o->n_iso ? 0 : -EINVAL;
+}
+
+static bool ends_with(const char *s, const char *suffix)
+{
+	const size_t n = strlen(s), m = strlen(suffix);
+
+	return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+static int bad(const char *opt, const char *arg, const char *expected)
+{
+	fprintf(stderr, "hdlamp render: %s '%s': expected %s\n", opt, arg, expected);
+	return HL_EXIT_USAGE;
+}
+
+/* 0, or an exit code. */
+static int parse(int argc, char **argv, struct options *o)
+{
+	enum {
+		OPT_ISO = 256,
+		OPT_WALL,
+		OPT_CAM_POS,
+		OPT_CAM_DIR,
+		OPT_FOV,
+		OPT_LEFT_POS,
+		OPT_LEFT_AIM,
+		OPT_RIGHT_POS,
+		OPT_RIGHT_AIM,
+		OPT_LAMP,
+		OPT_BACKEND,
+		OPT_EXPOSURE,
+	};
+	static const struct option opts[] = {
+		{ "lamps", required_argument, NULL, 'L' },
+		{ "lid", required_argument, NULL, 'l' },
+		{ "preset", required_argument, NULL, 'p' },
+		{ "scene", required_argument, NULL, 's' },
+		{ "view", required_argument, NULL, 'v' },
+		{ "size", required_argument, NULL, 'S' },
+		{ "out", required_argument, NULL, 'o' },
+		{ "exposure", required_argument, NULL, OPT_EXPOSURE },
+		{ "iso", required_argument, NULL, OPT_ISO },
+		{ "wall-distance", required_argument, NULL, OPT_WALL },
+		{ "camera-pos", required_argument, NULL, OPT_CAM_POS },
+		{ "camera-dir", required_argument, NULL, OPT_CAM_DIR },
+		{ "fov", required_argument, NULL, OPT_FOV },
+		{ "left-pos", required_argument, NULL, OPT_LEFT_POS },
+		{ "left-aim", required_argument, NULL, OPT_LEFT_AIM },
+		{ "right-pos", required_argument, NULL, OPT_RIGHT_POS },
+		{ "right-aim", required_argument, NULL, OPT_RIGHT_AIM },
+		{ "lamp", required_argument, NULL, OPT_LAMP },
+		{ "backend", required_argument, NULL, OPT_BACKEND },
+		{ "help", no_argument, NULL, 'h' },
+		{ NULL, 0, NULL, 0 },
+	};
+	double v[3];
+	int c, rc;
+	char tail;
+
+	*o = (struct options){
+		.preset = "low",
+		.scene = HL_SCENE_ROAD,
+		.view = HL_VIEW_DISPLAY,
+		.width = 1280,
+		.height = 720,
+		.exposure_ev = NAN,
+		.wall_distance_m = HL_WALL_DISTANCE_M,
+	};
+	hl_lamp_pose_default(0, &o->poses[0]);
+	hl_lamp_pose_default(1, &o->poses[1]);
+	hl_view_lux_defaults(&o->lux);
+	optind = 1;
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+		switch (c) {
+		case 'L':
+			o->lamps_dir = optarg;
+			break;
+		case 'l':
+			if (o->n_lid == 2)
+				return bad("--lid", optarg, "at most two lamp files");
+			o->lid[o->n_lid++] = optarg;
+			break;
+		case 'p':
+			o->preset = optarg;
+			break;
+		case 's':
+			rc = hl_scene_from_name(optarg);
+			if (rc < 0)
+				return bad("--scene", optarg, "sphere, wall, road or bird");
+			o->scene = rc;
+			break;
+		case 'v':
+			rc = hl_view_from_name(optarg);
+			if (rc < 0)
+				return bad("--view", optarg, "display, hdr, lux or lid");
+			o->view = rc;
+			break;
+		case 'S':
+			if (sscanf(optarg, "%dx%d%c", &o->width, &o->height, &tail) != 2 ||
+			    o->width < 2 || o->height < 2 || o->width > 8192 || o->height > 8192)
+				return bad("--size", optarg, "WxH, 2..8192 each");
+			break;
+		case 'o':
+			o->out = optarg;
+			break;
+		case OPT_EXPOSURE:
+			if (parse_doubles(optarg, &o->exposure_ev, 1) < 0)
+				return bad("--exposure", optarg, "a number (EV)");
+			break;
+		case OPT_ISO:
+			if (parse_iso(optarg, &o->lux) < 0)
+				return bad("--iso", optarg, "positive lux levels, comma-separated");
+			break;
+		case OPT_WALL:
+			if (parse_doubles(optarg, &o->wall_distance_m, 1) < 0 ||
+			    !(o->wall_distance_m > 1.0))
+				return bad("--wall-distance", optarg, "metres > 1");
+			break;
+		case OPT_CAM_POS:
+			if (parse_doubles(optarg, o->camera_pos, 3) < 0)
+				return bad("--camera-pos", optarg, "X,Y,Z in metres");
+			o->have_camera_pos = true;
+			break;
+		case OPT_CAM_DIR:
+			if (parse_doubles(optarg, o->camera_dir, 3) < 0 ||
+			    (o->camera_dir[0] == 0 && o->camera_dir[1] == 0 &&
+			     o->camera_dir[2] == 0))
+				return bad("--camera-dir", optarg, "X,Y,Z, not zero");
+			o->have_camera_dir = true;
+			break;
+		case OPT_FOV:
+			if (parse_doubles(optarg, &o->fov_deg, 1) < 0 ||
+			    !(o->fov_deg > 1.0 && o->fov_deg < 170.0))
+				return bad("--fov", optarg, "degrees in 1..170");
+			break;
+		case OPT_LEFT_POS:
+		case OPT_RIGHT_POS:
+			if (parse_doubles(optarg, o->poses[c == OPT_RIGHT_POS].pos_m, 3) < 0)
+				return bad(c == OPT_LEFT_POS ? "--left-pos" : "--right-pos", optarg,
+					   "X,Y,Z in metres");
+			break;
+		case OPT_LEFT_AIM:
+		case OPT_RIGHT_AIM:
+			if (parse_doubles(optarg, v, 2) < 0 || fabs(v[0]) > 90 || fabs(v[1]) > 45)
+				return bad(c == OPT_LEFT_AIM ? "--left-aim" : "--right-aim", optarg,
+					   "YAW,PITCH in degrees");
+			o->poses[c == OPT_RIGHT_AIM].yaw_deg = v[0];
+			o->poses[c == OPT_RIGHT_AIM].pitch_deg = v[1];
+			break;
+		case OPT_LAMP:
+			rc = hl_side_from_name(optarg);
+			if (rc < 0)
+				return bad("--lamp", optarg, "left or right");
+			o->lamp = rc;
+			break;
+		case OPT_BACKEND:
+			rc = hl_backend_from_name(optarg);
+			if (rc < 0)
+				return bad("--backend", optarg, "auto, cpu or gles");
+			o->backend = rc;
+			break;
+		case 'h':
+			usage(stdout);
+			return -HL_EXIT_OK - 1;
+		default:
+			usage(stderr);
+			return HL_EXIT_USAGE;
+		}
+	}
+	if (optind != argc || !o->out || (!o->lamps_dir && !o->n_lid) ||
+	    (o->lamps_dir && o->n_lid)) {
+		usage(stderr);
+		return HL_EXIT_USAGE;
+	}
+	if (!ends_with(o->out, ".png") && !ends_with(o->out, ".exr"))
+		return bad("--out", o->out, "a .png or .exr file");
+	if (o->view == HL_VIEW_HDR && !ends_with(o->out, ".exr"))
+		return bad("--out", o->out, "an .exr file for the hdr view");
+	return 0;
+}
+
+/* Lamp files and the currents of the preset: 0 or -errno (reported). */
+static int load_lamps(const struct options *o, struct hl_lid *lids[2], int *n_lamps,
+		      struct hl_preset **ret_preset)
+{
+	struct hl_preset_error perr = { 0 };
+	char path[4096];
+	int rc;
+
+	*n_lamps = o->lamps_dir ? 2 : o->n_lid;
+	for (int k = 0; k < *n_lamps; k++) {
+		struct hl_lid_error err;
+
+		if (o->lamps_dir)
+			snprintf(path, sizeof(path), "%s/hd84_%s.lid.exr", o->lamps_dir,
+				 hl_side_name(k));
+		else
+			snprintf(path, sizeof(path), "%s", o->lid[k]);
+		rc = hl_lid_read(path, &lids[k], &err);
+		if (rc < 0) {
+			fprintf(stderr, "hdlamp render: %s\n", err.msg);
+			return rc;
+		}
+	}
+	if (hl_lid_is_combined(lids[0]) && (*n_lamps == 1 || hl_lid_is_combined(lids[1])))
+		return 0;
+	/* A file, DIR/NAME.json, or a built-in HD84 preset. */
+	if (ends_with(o->preset, ".json") || strchr(o->preset, '/')) {
+		snprintf(path, sizeof(path), "%s", o->preset);
+	} else if (o->lamps_dir) {
+		snprintf(path, sizeof(path), "%s/%s.json", o->lamps_dir, o->preset);
+	} else {
+		struct hl_lid *pair[2] = { lids[0], *n_lamps > 1 ? lids[1] : lids[0] };
+
+		if (hl_lid_n_sources(lids[0]) != HL_HD84_SOURCES ||
+		    (*n_lamps > 1 && hl_lid_n_sources(lids[1]) != HL_HD84_SOURCES)) {
+			fprintf(stderr,
+				"hdlamp render: --preset '%s': built-in presets are for "
+				"HD84 lamps (%d sources); give a .json file\n",
+				o->preset, HL_HD84_SOURCES);
+			return -EINVAL;
+		}
+		rc = hl_preset_new(HL_HD84_SOURCES, ret_preset);
+		if (rc == 0)
+			rc = hl_model_hd84_preset(o->preset, pair, *ret_preset);
+		if (rc < 0)
+			fprintf(stderr, "hdlamp render: --preset '%s': no such preset\n",
+				o->preset);
+		return rc;
+	}
+	rc = hl_preset_read(path, ret_preset, &perr);
+	if (rc < 0) {
+		if (perr.line)
+			fprintf(stderr, "hdlamp render: '%s':%d:%d: %s\n", path, perr.line,
+				perr.column, perr.msg);
+		else
+			fprintf(stderr, "hdlamp render: '%s': %s\n", path,
+				perr.msg[0] ? perr.msg : strerror(-rc));
+		return rc;
+	}
+	for (int k = 0; k < *n_lamps; k++)
+		if (!hl_lid_is_combined(lids[k]) &&
+		    hl_lid_n_sources(lids[k]) != (*ret_preset)->n_sources) {
+			fprintf(stderr,
+				"hdlamp render: '%s': %d sources per lamp, the %s lamp has %d\n",
+				path, (*ret_preset)->n_sources, hl_side_name(k),
+				hl_lid_n_sources(lids[k]));
+			return -EINVAL;
+		}
+	return 0;
+}
+
+static int write_image(const struct options *o, const struct hl_camera *cam,
+		       const struct hl_gbuffer *gb, const float *lux, int n_lamps)
+{
+	const size_t n = (size_t)gb->width * gb->height;
+	struct hl_frame_exr_info info = { .camera = cam, .n_lamps = n_lamps };
+	struct hl_lid_error err;
+	uint8_t *rgb = NULL;
+	float *rgba = NULL;
+	int rc;
+
+	memcpy(info.lamps, o->poses, sizeof(info.lamps));
+	if (ends_with(o->out, ".exr")) {
+		if (o->view == HL_VIEW_LUX) {
+			rc = hl_frame_exr_write_lux(o->out, gb->width, gb->height, lux, &info,
+						    &err);
+		} else {
+			rgba = malloc(sizeof(float) * 4 * n);
+			if (!rgba)
+				return -ENOMEM;
+			hl_view_hdr(gb, lux, rgba);
+			rc = hl_frame_exr_write_hdr(o->out, gb->width, gb->height, rgba, &info,
+						    &err);
+		}
+		if (rc < 0)
+			fprintf(stderr, "hdlamp render: %s\n", err.msg);
+		free(rgba);
+		return rc;
+	}
+	rgb = malloc(3 * n);
+	if (!rgb)
+		return -ENOMEM;
+	if (o->view == HL_VIEW_LUX)
+		hl_view_lux(gb, lux, &o->lux, rgb);
+	else
+		hl_view_display(gb, lux, o->exposure_ev, rgb);
+	rc = hl_png_write_rgb(o->out, rgb, gb->width, gb->height);
+	if (rc < 0)
+		fprintf(stderr, "hdlamp render: '%s': %s\n", o->out, strerror(-rc));
+	free(rgb);
+	return rc;
+}
+
+static int write_lid(const struct options *o, struct hl_renderer *r, int n_lamps)
+{
+	const int k = o->lamp < n_lamps ? o->lamp : 0;
+	const float *dense = hl_renderer_distribution(r, k);
+	struct hl_lid_error err;
+	char title[64];
+	int rc;
+
+	if (!dense)
+		return -EIO;
+	if (o->lamp >= n_lamps) {
+		fprintf(stderr, "hdlamp render: --lamp right: only one lamp given\n");
+		return -EINVAL;
+	}
+	if (ends_with(o->out, ".exr")) {
+		rc = hl_lid_write_combined(hl_renderer_grid(r, k), dense, o->out, &err);
+		if (rc < 0)
+			fprintf(stderr, "hdlamp render: %s\n", err.msg);
+		return rc;
+	}
+	snprintf(title, sizeof(title), "%s LAMP, %s", hl_side_name(k), o->preset);
+	rc = hl_plot_lid_png(hl_renderer_grid(r, k), dense, title, o->out);
+	if (rc < 0)
+		fprintf(stderr, "hdlamp render: '%s': %s\n", o->out, strerror(-rc));
+	return rc;
+}
+
+int hl_cmd_render(int argc, char **argv)
+{
+	struct options o;
+	struct hl_lid *lids[2] = { NULL, NULL };
+	struct hl_preset *preset = NULL;
+	struct hl_egl *egl = NULL;
+	struct hl_egl_error eerr = { "" };
+	struct hl_gbuffer *gb = NULL;
+	struct hl_renderer *r = NULL;
+	struct hl_renderer_config cfg = { 0 };
+	struct hl_scene scene;
+	struct hl_camera cam;
+	float *lux = NULL, *cur = NULL;
+	int n_lamps = 0, rc, status = HL_EXIT_FAIL;
+
+	rc = parse(argc, argv, &o);
+	if (rc)
+		return rc < 0 ? HL_EXIT_OK : rc;
+	if (isnan(o.exposure_ev))
+		o.exposure_ev = o.scene == HL_SCENE_BIRD   ? BIRD_EXPOSURE_EV :
+				o.scene == HL_SCENE_SPHERE ? SPHERE_EXPOSURE_EV :
+							     DEFAULT_EXPOSURE_EV;
+	/* The renderer needs a GL context even when both stages run on the CPU: fail early. */
+	rc = hl_egl_new(&egl, &eerr);
+	if (rc < 0) {
+		fprintf(stderr, "hdlamp render: no EGL/GLES 3.1 context: %s\n", eerr.msg);
+		return HL_EXIT_FAIL;
+	}
+	fprintf(stderr, "hdlamp render: EGL %s, %s, %s\n", hl_egl_platform(egl),
+		hl_egl_renderer(egl), hl_egl_version(egl));
+	if (load_lamps(&o, lids, &n_lamps, &preset) < 0)
+		goto out;
+
+	hl_scene_init(&scene, o.scene, o.poses);
+	scene.wall_distance_m = o.wall_distance_m;
+	hl_scene_default_camera(&scene, o.width, o.height, &cam);
+	if (o.have_camera_pos)
+		memcpy(cam.pos_m, o.camera_pos, sizeof(cam.pos_m));
+	if (o.have_camera_dir)
+		memcpy(cam.dir, o.camera_dir, sizeof(cam.dir));
+	if (o.fov_deg > 0.0)
+		cam.fov_y_deg = o.fov_deg;
+	rc = hl_gbuffer_new(o.width, o.height, &gb);
+	if (rc == 0)
+		rc = hl_scene_render(&scene, &cam, gb);
+	lux = malloc(sizeof(float) * (size_t)o.width * o.height);
+	if (rc < 0 || !lux) {
+		fprintf(stderr, "hdlamp render: out of memory\n");
+		goto out;
+	}
+
+	cfg.n_lamps = n_lamps;
+	cfg.lids[0] = lids[0];
+	cfg.lids[1] = lids[1];
+	memcpy(cfg.poses, o.poses, sizeof(cfg.poses));
+	cfg.combine = o.backend;
+	cfg.headlight = o.backend;
+	cfg.egl = egl;
+	rc = hl_renderer_new(&cfg, gb, &r);
+	if (rc < 0) {
+		fprintf(stderr, "hdlamp render: cannot set up the renderer: %s\n", strerror(-rc));
+		goto out;
+	}
+	fprintf(stderr, "hdlamp render: combine on %s, headlight pass on %s\n",
+		hl_backend_name(hl_renderer_combine_backend(r)),
+		hl_backend_name(hl_renderer_headlight_backend(r)));
+	for (int k = 0; k < n_lamps && preset; k++) {
+		cur = realloc(cur, sizeof(float) * preset->n_sources);
+		if (!cur)
+			goto out;
+		hl_preset_intensities(preset, k, cur);
+		if (hl_renderer_set_currents(r, k, cur) < 0) {
+			fprintf(stderr, "hdlamp render: bad currents for the %s lamp\n",
+				hl_side_name(k));
+			goto out;
+		}
+	}
+	rc = hl_renderer_frame(r, lux);
+	if (rc < 0) {
+		fprintf(stderr, "hdlamp render: frame failed: %s\n", strerror(-rc));
+		goto out;
+	}
+	rc = o.view == HL_VIEW_LID ? write_lid(&o, r, n_lamps) :
+				     write_image(&o, &cam, gb, lux, n_lamps);
+	if (rc == 0) {
+		printf("%s\n", o.out);
+		status = HL_EXIT_OK;
+	}
+out:
+	free(cur);
+	free(lux);
+	hl_renderer_free(r);
+	hl_gbuffer_free(gb);
+	hl_preset_free(preset);
+	hl_lid_free(lids[0]);
+	hl_lid_free(lids[1]);
+	hl_egl_free(egl);
+	return status;
+}
