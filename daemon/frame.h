@@ -1,0 +1,60 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * A published frame and its wire header (README "Frame stream"). The header is sent as is,
+ * little endian, before the pixels of every frame on the stream sockets.
+ */
+#ifndef HL_DAEMON_FRAME_H
+#define HL_DAEMON_FRAME_H
+
+#include <stdint.h>
+
+#define HL_FRAME_MAGIC 0x524c4448u /* "HDLR" read as little-endian bytes */
+#define HL_FRAME_VERSION 1
+#define HL_FRAME_MAX_LAMPS 2
+
+enum hl_pixel_format {
+	HL_PIXEL_RGB8 = 1, /* display or lux false colour: 3 bytes per pixel */
+	HL_PIXEL_RGBA16F = 2, /* hdr: linear luminance cd/m², half floats */
+};
+
+/* Frame flags: per lamp l, bit 2l = stale, bit 2l + 1 = fail-safe active. */
+#define HL_FRAME_STALE(l) (1u << (2 * (l)))
+#define HL_FRAME_FAILSAFE(l) (1u << (2 * (l) + 1))
+
+struct hl_frame_header {
+	uint32_t magic;
+	uint16_t version;
+	uint16_t header_size; /* sizeof(struct hl_frame_header): 128 */
+	uint64_t seq; /* published frames, from 1; a reader sees gaps when it skipped */
+	uint32_t width, height;
+	uint32_t stride; /* bytes per row */
+	uint32_t pixel_format; /* enum hl_pixel_format */
+	uint32_t payload_size; /* bytes of pixels that follow */
+	uint32_t flags;
+	/* CLOCK_MONOTONIC ns: the newest CAN cycle in this frame (its first frame's kernel receive
+	 * time is CLOCK_REALTIME, see t_cycle_rx_ns), render start and end, and when this header
+	 * was sent to this client */
+	int64_t t_cycle_rx_ns; /* CLOCK_REALTIME: kernel receive time of the cycle's first frame */
+	int64_t t_cycle_done_ns;
+	int64_t t_render_start_ns;
+	int64_t t_render_done_ns;
+	int64_t t_sent_ns;
+	uint64_t cycle_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's complete cycles in this frame */
+	uint8_t counter[HL_FRAME_MAX_LAMPS]; /* each lamp's alive counter */
+	uint8_t n_lamps;
+	uint8_t reserved[29];
+};
+
+_Static_assert(sizeof(struct hl_frame_header) == 128, "the wire header is 128 bytes");
+
+/* A frame in memory: the header, its pixels, and what captures need. */
+struct hl_frame {
+	struct hl_frame_header hdr;
+	uint8_t *pixels; /* payload_size bytes in the configured view */
+	float *lux; /* width * height illuminance, lux */
+	float *dist[HL_FRAME_MAX_LAMPS]; /* each lamp's combined distribution, cd (grid size) */
+	uint8_t *dims[HL_FRAME_MAX_LAMPS]; /* each lamp's raw dimming values 0..63 */
+	int dist_width, dist_height, n_sources;
+};
+
+#endif

@@ -1,0 +1,56 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The frames between the render thread and the outputs (stream clients, HTTP, captures). The
+ * render thread takes a free frame, fills it and publishes it as the newest; readers take a
+ * reference to the newest (waiting for one newer than what they had, with a timeout) and
+ * release it when sent. A reader never blocks the renderer: if every frame is still held by
+ * readers, the renderer's frame is not published and that is counted. Memory is fixed at start.
+ *
+ * Thread-safety: all functions from any thread; the lock is held for pointer and count updates
+ * only, never while pixels are copied or sent.
+ */
+#ifndef HL_DAEMON_FRAME_POOL_H
+#define HL_DAEMON_FRAME_POOL_H
+
+#include <stdint.h>
+
+#include "daemon/frame.h"
+
+struct hl_frame_shape {
+	int width, height;
+	enum hl_pixel_format format;
+	int n_lamps, n_sources;
+	int dist_width, dist_height;
+};
+
+struct hl_frame_pool_counts {
+	uint64_t published;
+	uint64_t no_free_frame; /* frames the renderer could not publish: all frames held */
+};
+
+struct hl_frame_pool;
+
+/* n_frames >= 2. 0, -EINVAL, -ENOMEM. */
+int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct hl_frame_pool **ret);
+void hl_frame_pool_free(struct hl_frame_pool *pool);
+
+/* Renderer: a frame nobody holds (not the newest), or NULL when all are held (counted). */
+struct hl_frame *hl_frame_pool_acquire(struct hl_frame_pool *pool);
+/* Renderer: makes f the newest (sets hdr.seq) and wakes waiting readers. */
+void hl_frame_pool_publish(struct hl_frame_pool *pool, struct hl_frame *f);
+/* Renderer: gives back an acquired frame without publishing it. */
+void hl_frame_pool_discard(struct hl_frame_pool *pool, struct hl_frame *f);
+
+/*
+ * Reader: a reference to the newest frame if its seq > after_seq, waiting up to timeout_ms
+ * (0: do not wait, -1: forever) for one; NULL when none came. Release it when done.
+ */
+struct hl_frame *hl_frame_pool_get(struct hl_frame_pool *pool, uint64_t after_seq, int timeout_ms);
+void hl_frame_pool_release(struct hl_frame_pool *pool, struct hl_frame *f);
+/* Wakes every waiting reader (for shutdown); later gets do not wait. */
+void hl_frame_pool_close(struct hl_frame_pool *pool);
+
+void hl_frame_pool_counts(struct hl_frame_pool *pool, struct hl_frame_pool_counts *ret);
+const struct hl_frame_shape *hl_frame_pool_shape(const struct hl_frame_pool *pool);
+
+#endif
