@@ -29,6 +29,8 @@ struct hl_can_input {
 	pthread_t thread;
 	bool started;
 	atomic_int stop;
+	pthread_mutex_t status_lock;
+	struct hl_input_status status;
 };
 
 int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler *a,
@@ -44,6 +46,7 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	in->ring = ring;
 	in->wake_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
 	atomic_init(&in->stop, 0);
+	pthread_mutex_init(&in->status_lock, NULL);
 	rc = in->wake_fd < 0 ? -errno : hl_snapshot_new(ring, &in->snap);
 	if (rc == 0 && cfg->replay)
 		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop, &in->log);
@@ -73,7 +76,52 @@ void hl_can_input_free(struct hl_can_input *in)
 	hl_snapshot_free(in->snap);
 	if (in->wake_fd >= 0)
 		close(in->wake_fd);
+	pthread_mutex_destroy(&in->status_lock);
 	free(in);
+}
+
+/* CAN thread: copies what other threads may read. */
+static void update_status(struct hl_can_input *in)
+{
+	struct hl_input_status st = { .n_lamps = hl_assembler_n_lamps(in->a) };
+
+	for (int l = 0; l < st.n_lamps; l++) {
+		st.lamps[l] = *hl_assembler_lamp_counters(in->a, l);
+		st.stale[l] = hl_assembler_stale(in->a, l);
+	}
+	st.frames = *hl_assembler_counters(in->a);
+	st.link_up = in->snap->status & HL_INPUT_LINK_UP;
+	st.link_errno = in->snap->link_errno;
+	st.is_socket = in->sock != NULL;
+	st.done = in->snap->status & HL_INPUT_DONE;
+	if (in->sock) {
+		struct hl_can_socket_stats ss;
+
+		hl_can_socket_stats(in->sock, &ss);
+		snprintf(st.bus, sizeof(st.bus), "%s", hl_can_bus_state_name(ss.bus));
+		st.kernel_drops = ss.kernel_drops;
+		st.socket_error_frames = ss.error_frames;
+		st.bus_off = ss.bus_off;
+		st.restarts = ss.restarts;
+	} else {
+		struct hl_candump_log_stats ls;
+
+		hl_candump_log_stats(in->log, &ls);
+		snprintf(st.bus, sizeof(st.bus), "replay");
+		st.log_lines = ls.lines;
+		st.log_malformed = ls.malformed;
+		st.log_passes = ls.passes;
+	}
+	pthread_mutex_lock(&in->status_lock);
+	in->status = st;
+	pthread_mutex_unlock(&in->status_lock);
+}
+
+void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret)
+{
+	pthread_mutex_lock(&in->status_lock);
+	*ret = in->status;
+	pthread_mutex_unlock(&in->status_lock);
 }
 
 int hl_can_input_wake_fd(const struct hl_can_input *in)
@@ -96,6 +144,7 @@ static void push(struct hl_can_input *in, int64_t t_event_ns)
 	in->snap->t_push_ns = hl_monotonic_ns();
 	in->snap->t_event_ns = t_event_ns;
 	hl_ring_push(in->ring, in->snap);
+	update_status(in);
 	/* wakes the consumer; an eventfd write never blocks while its counter is small */
 	if (write(in->wake_fd, &one, sizeof(one)) < 0) {
 		/* nothing to do: the consumer also wakes on its own every POLL_MAX_MS */
@@ -143,6 +192,7 @@ static void feed(struct hl_can_input *in, const struct canfd_frame *f, int64_t t
 static void run_replay(struct hl_can_input *in)
 {
 	const int64_t base_ns = hl_monotonic_ns();
+	uint64_t n_frames = 0;
 
 	while (!atomic_load(&in->stop)) {
 		struct hl_candump_log_error err;
@@ -177,6 +227,8 @@ static void run_replay(struct hl_can_input *in)
 		if (!in->cfg.replay_fast)
 			hl_sleep_until(base_ns + due_ns, NULL);
 		feed(in, &f.frame, f.t_us * 1000, due_ns);
+		if (++n_frames % 64 == 0)
+			update_status(in); /* at least every 64 frames, for the status readers */
 	}
 	in->snap->status |= HL_INPUT_DONE;
 	push(in, hl_monotonic_ns());
@@ -204,6 +256,7 @@ static void idle(struct hl_can_input *in, int ms)
 		int64_t wake = hl_assembler_next_deadline(in->a);
 
 		mark_stale(in, hl_assembler_expire(in->a, now), now);
+		update_status(in);
 		if (now >= until)
 			return;
 		if (wake > until)
@@ -237,7 +290,8 @@ static void run_socket(struct hl_can_input *in)
 		if (deadline != INT64_MAX && (deadline - now) / 1000000 + 1 < timeout_ms)
 			timeout_ms = deadline <= now ? 0 : (int)((deadline - now) / 1000000 + 1);
 		pfd = (struct pollfd){ .fd = hl_can_socket_fd(in->sock), .events = POLLIN };
-		poll(&pfd, 1, timeout_ms);
+		if (poll(&pfd, 1, timeout_ms) == 0)
+			update_status(in);
 		now = hl_monotonic_ns();
 		mark_stale(in, hl_assembler_expire(in->a, now), now);
 		for (int n = 0; n < READ_BATCH; n++) {
@@ -265,6 +319,7 @@ static void *thread_main(void *arg)
 {
 	struct hl_can_input *in = arg;
 
+	update_status(in);
 	if (in->log)
 		run_replay(in);
 	else

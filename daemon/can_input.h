@@ -47,6 +47,22 @@ void hl_can_input_stop(struct hl_can_input *in);
 /* An eventfd that becomes readable after every push (read it to reset). */
 int hl_can_input_wake_fd(const struct hl_can_input *in);
 
+/* A consistent copy of the input's counters for other threads (updated on every push and at
+ * least every 100 ms). */
+struct hl_input_status {
+	int n_lamps;
+	struct hl_lamp_counters lamps[HL_ASM_MAX_LAMPS];
+	bool stale[HL_ASM_MAX_LAMPS];
+	struct hl_asm_counters frames;
+	bool link_up, is_socket, done; /* done: the replay reached its end */
+	int link_errno;
+	char bus[32];
+	uint64_t kernel_drops, socket_error_frames, bus_off, restarts;
+	uint64_t log_lines, log_malformed, log_passes;
+};
+
+void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret);
+
 /* Writes the input's counters as a JSON object's members (no braces). */
 void hl_can_input_report(const struct hl_can_input *in, FILE *f);
 

@@ -17,6 +17,8 @@
 #include "can/candump_log.h"
 #include "can/socket.h"
 #include "daemon/can_input.h"
+#include "daemon/config.h"
+#include "daemon/live.h"
 
 #define MAX_LAMPS HL_ASM_MAX_LAMPS
 
@@ -28,40 +30,62 @@ static void on_signal(int sig)
 	stop_requested = 1;
 }
 
+#define MAX_OVERRIDES 128
+
 struct options {
-	const char *iface, *replay, *dbc;
+	struct hl_config cfg;
+	const char *config_path;
+	char *overrides[MAX_OVERRIDES]; /* SECTION.KEY=VALUE, in order; re-applied on reload */
+	int n_overrides;
 	char *lamp_names[MAX_LAMPS];
 	int n_lamps;
-	int timeout_ms;
+	char lamps_buf[HL_CONFIG_NAME];
 	unsigned ring_slots;
-	bool fast, loop, no_render, print_cycles;
+	bool no_render, print_cycles, print_config;
 };
 
 static void usage(FILE *f)
 {
 	fprintf(f,
-		"usage: hdlampd (--can IFACE | --replay LOG [--fast] [--loop]) --no-render [options]\n"
+		"usage: hdlampd [--config FILE] [--set SECTION.KEY=VALUE ...] [options]\n"
 		"\n"
-		"  --can IFACE        receive from a SocketCAN interface (CAN or CAN FD); the daemon\n"
-		"                     waits for it and reopens it when it goes down or disappears\n"
-		"  --replay LOG       replay a candump -L log ('-' for stdin) with its timing\n"
-		"  --fast             replay as fast as possible (timeouts still run on log time)\n"
-		"  --loop             replay the log over and over\n"
-		"  --dbc FILE         the CAN database (default dbc/hd84.dbc)\n"
-		"  --lamps A,B        lamp names, as the DBC's HdlLamp attributes (default left,right)\n"
-		"  --timeout-ms N     a lamp with no complete cycle for N ms is stale (default 100)\n"
-		"  --ring-slots N     snapshots between CAN and output thread, a power of two (256)\n"
-		"  --no-render        decode only (this build has no renderer yet)\n"
-		"  --print-cycles     one JSON line per complete lamp cycle\n"
+		"  --config FILE      INI configuration (README lists every key; --print-config shows\n"
+		"                     them with their values)\n"
+		"  --set S.K=V        override one key (e.g. --set render.view=lux)\n"
+		"  --can IFACE        = can.interface: a SocketCAN interface (CAN or CAN FD); waited\n"
+		"                     for, and reopened when it goes down or disappears\n"
+		"  --replay LOG       = can.replay: a candump -L log ('-' for stdin) with its timing\n"
+		"  --fast, --loop     = can.replay_fast, can.replay_loop\n"
+		"  --dbc FILE         = can.dbc (default dbc/hd84.dbc)\n"
+		"  --lamps A,B        = can.lamps (default left,right)\n"
+		"  --timeout-ms N     = can.timeout_ms (default 100)\n"
+		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
+		"  --no-render        decode only: print to stdout instead of rendering\n"
+		"  --print-cycles     with --no-render: one JSON line per complete lamp cycle\n"
+		"  --print-config     print the resulting configuration and exit\n"
 		"\n"
-		"Output (stdout, JSON lines): cycles {\"lamp\",\"seq\",\"counter\",\"t_rx_ns\",\"t_done_ns\",\"i\"},\n"
-		"status changes {\"event\":\"stale\"|\"recovered\"|\"bus\"|\"link\",...}, and at exit\n"
-		"{\"event\":\"summary\",...} with every counter. SIGINT/SIGTERM stop it (exit 0).\n");
+		"Live mode renders every new complete cycle and serves the frames (stream, HTTP);\n"
+		"SIGHUP re-reads the configuration, SIGUSR1 writes a capture, SIGINT/SIGTERM stop\n"
+		"(exit 0). --no-render prints JSON lines: cycles, status changes and a summary.\n");
+}
+
+static int add_override(struct options *o, const char *section_key, const char *value)
+{
+	char *s;
+
+	if (o->n_overrides == MAX_OVERRIDES || asprintf(&s, "%s=%s", section_key, value) < 0) {
+		fprintf(stderr, "hdlampd: too many overrides\n");
+		return -EINVAL;
+	}
+	o->overrides[o->n_overrides++] = s;
+	return 0;
 }
 
 static int parse_options(int argc, char **argv, struct options *o)
 {
 	static const struct option opts[] = {
+		{ "config", required_argument, NULL, 'C' },
+		{ "set", required_argument, NULL, 'S' },
 		{ "can", required_argument, NULL, 'c' },
 		{ "replay", required_argument, NULL, 'r' },
 		{ "fast", no_argument, NULL, 'f' },
@@ -72,43 +96,47 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "ring-slots", required_argument, NULL, 's' },
 		{ "no-render", no_argument, NULL, 'n' },
 		{ "print-cycles", no_argument, NULL, 'p' },
+		{ "print-config", no_argument, NULL, 'P' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
-	static char default_lamps[] = "left,right";
-	char *lamps = default_lamps, *end;
+	struct hl_config_error err;
+	char *end;
 	long v;
-	int c;
+	int c, rc = 0;
 
-	*o = (struct options){ .dbc = "dbc/hd84.dbc", .timeout_ms = 100, .ring_slots = 256 };
-	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+	*o = (struct options){ .ring_slots = 256 };
+	hl_config_defaults(&o->cfg);
+	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1 && rc == 0) {
 		switch (c) {
+		case 'C':
+			o->config_path = optarg;
+			break;
+		case 'S':
+			if (o->n_overrides == MAX_OVERRIDES)
+				return -EINVAL;
+			o->overrides[o->n_overrides++] = strdup(optarg);
+			break;
 		case 'c':
-			o->iface = optarg;
+			rc = add_override(o, "can.interface", optarg);
 			break;
 		case 'r':
-			o->replay = optarg;
+			rc = add_override(o, "can.replay", optarg);
 			break;
 		case 'f':
-			o->fast = true;
+			rc = add_override(o, "can.replay_fast", "true");
 			break;
 		case 'l':
-			o->loop = true;
+			rc = add_override(o, "can.replay_loop", "true");
 			break;
 		case 'd':
-			o->dbc = optarg;
+			rc = add_override(o, "can.dbc", optarg);
 			break;
 		case 'L':
-			lamps = optarg;
+			rc = add_override(o, "can.lamps", optarg);
 			break;
 		case 't':
-			v = strtol(optarg, &end, 10);
-			if (*end || v < 1 || v > 60000) {
-				fprintf(stderr, "hdlampd: --timeout-ms '%s': expected 1..60000\n",
-					optarg);
-				return -EINVAL;
-			}
-			o->timeout_ms = (int)v;
+			rc = add_override(o, "can.timeout_ms", optarg);
 			break;
 		case 's':
 			v = strtol(optarg, &end, 10);
@@ -126,6 +154,9 @@ static int parse_options(int argc, char **argv, struct options *o)
 		case 'p':
 			o->print_cycles = true;
 			break;
+		case 'P':
+			o->print_config = true;
+			break;
 		case 'h':
 			usage(stdout);
 			exit(0);
@@ -134,25 +165,44 @@ static int parse_options(int argc, char **argv, struct options *o)
 			return -EINVAL;
 		}
 	}
-	if (optind != argc || !o->iface == !o->replay || ((o->fast || o->loop) && !o->replay)) {
-		fprintf(stderr,
-			"hdlampd: give exactly one of --can IFACE and --replay LOG (--fast and --loop go with --replay)\n");
+	if (rc < 0)
+		return rc;
+	if (optind != argc) {
+		fprintf(stderr, "hdlampd: unexpected argument '%s'\n", argv[optind]);
 		return -EINVAL;
 	}
-	if (!o->no_render) {
-		fprintf(stderr, "hdlampd: this build has no renderer yet; run with --no-render\n");
+	/* defaults, then the file, then the command line, whatever their order there */
+	if (o->config_path) {
+		rc = hl_config_load(&o->cfg, o->config_path, &err);
+		if (rc < 0) {
+			fprintf(stderr, "hdlampd: %s\n", err.msg);
+			return rc == -EINVAL ? -EINVAL : -ENOENT;
+		}
+	}
+	for (int i = 0; i < o->n_overrides; i++) {
+		if (!o->overrides[i] ||
+		    hl_config_set_arg(&o->cfg, o->overrides[i], "command line", &err) < 0) {
+			fprintf(stderr, "hdlampd: %s\n", err.msg);
+			return -EINVAL;
+		}
+	}
+	if (o->print_config)
+		return 0;
+	if (hl_config_check(&o->cfg, &err) < 0) {
+		fprintf(stderr, "hdlampd: %s (--can IFACE or --replay LOG)\n", err.msg);
 		return -EINVAL;
 	}
-	for (char *save = NULL, *tok = strtok_r(lamps, ",", &save); tok;
+	snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
+	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save); tok;
 	     tok = strtok_r(NULL, ",", &save)) {
 		if (o->n_lamps == MAX_LAMPS) {
-			fprintf(stderr, "hdlampd: --lamps: at most %d lamps\n", MAX_LAMPS);
+			fprintf(stderr, "hdlampd: can.lamps: at most %d lamps\n", MAX_LAMPS);
 			return -EINVAL;
 		}
 		o->lamp_names[o->n_lamps++] = tok;
 	}
 	if (o->n_lamps == 0) {
-		fprintf(stderr, "hdlampd: --lamps: expected names such as left,right\n");
+		fprintf(stderr, "hdlampd: can.lamps: expected names such as left,right\n");
 		return -EINVAL;
 	}
 	return 0;
@@ -183,7 +233,7 @@ static void print_cycle(const struct hl_assembler *a, const struct hl_snapshot *
 static bool report(const struct options *o, const struct hl_assembler *a,
 		   const struct hl_snapshot *s, struct seen *seen)
 {
-	const char *iface = o->iface ? o->iface : o->replay;
+	const char *iface = o->cfg.interface[0] ? o->cfg.interface : o->cfg.replay;
 
 	if ((s->status & HL_INPUT_LINK_UP) != (seen->status & HL_INPUT_LINK_UP) ||
 	    s->link_errno != seen->link_errno)
@@ -241,9 +291,9 @@ static void summary(const struct hl_assembler *a, const struct hl_ring *ring,
 	       rc.pushed, rc.consumed, rc.superseded, rc.dropped);
 }
 
-int main(int argc, char **argv)
+static int run_decode_only(struct options *op)
 {
-	struct options o;
+	struct options o = *op;
 	struct hl_dbc *db = NULL;
 	struct hl_dbc_error derr;
 	struct hl_assembler *a = NULL;
@@ -256,32 +306,29 @@ int main(int argc, char **argv)
 	int rc, n_src = 1, exit_code = 1;
 	bool done = false;
 
-	setvbuf(stdout, NULL, _IOLBF, 0);
-	if (parse_options(argc, argv, &o) < 0)
-		return 2;
-	rc = hl_dbc_parse_file(o.dbc, &db, &derr);
+	rc = hl_dbc_parse_file(o.cfg.dbc, &db, &derr);
 	if (rc < 0) {
 		if (derr.line)
-			fprintf(stderr, "hdlampd: '%s':%d:%d: %s\n", o.dbc, derr.line, derr.column,
-				derr.msg);
+			fprintf(stderr, "hdlampd: '%s':%d:%d: %s\n", o.cfg.dbc, derr.line,
+				derr.column, derr.msg);
 		else
-			fprintf(stderr, "hdlampd: '%s': %s\n", o.dbc, derr.msg);
+			fprintf(stderr, "hdlampd: '%s': %s\n", o.cfg.dbc, derr.msg);
 		return 1;
 	}
-	rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps, o.timeout_ms, 0, &a,
-			      &aerr);
+	rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps, o.cfg.timeout_ms, 0,
+			      &a, &aerr);
 	if (rc < 0) {
-		fprintf(stderr, "hdlampd: '%s': %s\n", o.dbc, aerr.msg);
+		fprintf(stderr, "hdlampd: '%s': %s\n", o.cfg.dbc, aerr.msg);
 		goto out;
 	}
 	for (int l = 0; l < o.n_lamps; l++)
 		if (hl_assembler_n_sources(a, l) > n_src)
 			n_src = hl_assembler_n_sources(a, l);
 	/* replays run on the log's timeline (0 = first frame); a live bus on CLOCK_MONOTONIC */
-	if (o.iface) {
+	if (o.cfg.interface[0]) {
 		hl_assembler_free(a);
 		rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps,
-				      o.timeout_ms, hl_monotonic_ns(), &a, &aerr);
+				      o.cfg.timeout_ms, hl_monotonic_ns(), &a, &aerr);
 		if (rc < 0)
 			goto out;
 	}
@@ -290,22 +337,22 @@ int main(int argc, char **argv)
 		rc = hl_snapshot_new(ring, &snap);
 	if (rc == 0) {
 		struct hl_can_input_config cfg = {
-			.iface = o.iface,
-			.replay = o.replay,
-			.replay_fast = o.fast,
-			.replay_loop = o.loop,
+			.iface = o.cfg.interface[0] ? o.cfg.interface : NULL,
+			.replay = o.cfg.replay[0] ? o.cfg.replay : NULL,
+			.replay_fast = o.cfg.replay_fast,
+			.replay_loop = o.cfg.replay_loop,
 			.log = stderr,
 		};
 
 		rc = hl_can_input_new(&cfg, a, ring, &in);
 		if (rc < 0)
-			fprintf(stderr, "hdlampd: '%s': %s\n", o.iface ? o.iface : o.replay,
+			fprintf(stderr, "hdlampd: '%s': %s\n", cfg.iface ? cfg.iface : cfg.replay,
 				strerror(-rc));
 	}
 	if (rc < 0)
 		goto out;
-	seen.status = o.replay ? HL_INPUT_LINK_UP : 0;
-	seen.link_errno = o.replay ? 0 : ENETDOWN;
+	seen.status = o.cfg.replay[0] ? HL_INPUT_LINK_UP : 0;
+	seen.link_errno = o.cfg.replay[0] ? 0 : ENETDOWN;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
 	rc = hl_can_input_start(in);
@@ -337,4 +384,37 @@ out:
 	hl_assembler_free(a);
 	hl_dbc_free(db);
 	return exit_code;
+}
+
+int main(int argc, char **argv)
+{
+	struct options o;
+	int rc;
+
+	setvbuf(stdout, NULL, _IOLBF, 0);
+	rc = parse_options(argc, argv, &o);
+	if (rc < 0)
+		return rc == -ENOENT ? 1 : 2;
+	if (o.print_config) {
+		hl_config_print(&o.cfg, stdout);
+		rc = 0;
+	} else if (o.no_render) {
+		rc = run_decode_only(&o);
+	} else {
+		struct hl_live_args args = {
+			.config_path = o.config_path,
+			.overrides = o.overrides,
+			.n_overrides = o.n_overrides,
+			.ring_slots = o.ring_slots,
+		};
+
+		if (o.print_cycles) {
+			fprintf(stderr, "hdlampd: --print-cycles goes with --no-render\n");
+			return 2;
+		}
+		rc = hl_live_run(&o.cfg, &args);
+	}
+	for (int i = 0; i < o.n_overrides; i++)
+		free(o.overrides[i]);
+	return rc;
 }

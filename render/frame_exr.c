@@ -115,6 +115,8 @@ static exr_result_t set_attributes(exr_context_t ctxt, int part,
 		if (rv == EXR_ERR_SUCCESS)
 			rv = exr_attr_set_v2f(ctxt, part, name, &aim);
 	}
+	for (int k = 0; k < info->n_meta && k < HL_FRAME_EXR_MAX_META && rv == EXR_ERR_SUCCESS; k++)
+		rv = exr_attr_set_string(ctxt, part, info->meta_names[k], info->meta_values[k]);
 	return rv;
 }
 

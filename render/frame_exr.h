@@ -17,10 +17,16 @@
 #include "render/camera.h"
 #include "render/lid.h"
 
+#define HL_FRAME_EXR_MAX_META 16
+
 struct hl_frame_exr_info {
 	const struct hl_camera *camera;
 	int n_lamps; /* 1 or 2 */
 	struct hl_lamp_pose lamps[2];
+	/* further string attributes (e.g. "hdlamp:cycleSeq"), written as given */
+	int n_meta;
+	const char *meta_names[HL_FRAME_EXR_MAX_META];
+	const char *meta_values[HL_FRAME_EXR_MAX_META];
 };
 
 /* rgba: 4 floats per pixel, row 0 at the top. 0, -EINVAL, -EIO, -ENOMEM; err names the file. */

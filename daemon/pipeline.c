@@ -1,0 +1,413 @@
+/* SPDX-License-Identifier: MIT */
+#include "daemon/pipeline.h"
+
+#include <errno.h>
+#include <math.h>
+#include <poll.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "can/candump_log.h"
+#include "render/egl.h"
+#include "render/frame_exr.h"
+#include "render/renderer.h"
+#include "render/view.h"
+
+#define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
+
+struct hl_pipeline {
+	struct hl_config cfg;
+	struct hl_lid *lids[2];
+	int n_lamps;
+	struct hl_ring *ring;
+	int wake_fd;
+	struct hl_frame_pool *pool;
+	struct hl_pipeline_hooks hooks;
+
+	/* live settings, changed by reload under the lock */
+	pthread_mutex_t lock;
+	enum hl_failsafe failsafe;
+	uint8_t *failsafe_dims[2];
+	double exposure_ev;
+	struct hl_pipeline_counts c;
+
+	/* render thread's */
+	struct hl_egl *egl;
+	struct hl_scene scene;
+	struct hl_camera cam;
+	struct hl_gbuffer *gb;
+	struct hl_renderer *r;
+	struct hl_snapshot *snap;
+	float *cur, *lux, *rgba;
+	enum hl_view_kind view;
+	struct hl_view_lux_opts lux_opts;
+	char describe[256];
+
+	pthread_t thread;
+	bool started;
+	atomic_int stop;
+	/* start-up handshake */
+	pthread_cond_t up;
+	int start_rc; /* 1 while starting */
+	char start_err[256];
+};
+
+int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
+		    const uint8_t *const failsafe_dims[2], struct hl_ring *ring, int wake_fd,
+		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
+		    struct hl_pipeline **ret)
+{
+	struct hl_pipeline *p = calloc(1, sizeof(*p));
+	int rc;
+
+	if (!p)
+		return -ENOMEM;
+	p->cfg = *cfg;
+	p->n_lamps = n_lamps;
+	p->ring = ring;
+	p->wake_fd = wake_fd;
+	p->pool = pool;
+	if (hooks)
+		p->hooks = *hooks;
+	p->exposure_ev = cfg->exposure_ev;
+	pthread_mutex_init(&p->lock, NULL);
+	pthread_cond_init(&p->up, NULL);
+	atomic_init(&p->stop, 0);
+	for (int l = 0; l < n_lamps; l++)
+		p->lids[l] = lids[l];
+	rc = hl_snapshot_new(ring, &p->snap);
+	if (rc < 0)
+		goto err;
+	p->cur = calloc(p->snap->n_sources, sizeof(float));
+	p->lux = calloc((size_t)cfg->width * cfg->height, sizeof(float));
+	p->rgba = calloc((size_t)cfg->width * cfg->height * 4, sizeof(float));
+	if (!p->cur || !p->lux || !p->rgba) {
+		rc = -ENOMEM;
+		goto err;
+	}
+	rc = hl_view_from_name(cfg->view);
+	if (rc < 0 || rc == HL_VIEW_LID) {
+		rc = -EINVAL;
+		goto err;
+	}
+	p->view = rc;
+	hl_view_lux_defaults(&p->lux_opts);
+	hl_pipeline_set_failsafe(p, cfg->failsafe, failsafe_dims);
+	*ret = p;
+	return 0;
+err:
+	hl_pipeline_free(p);
+	return rc;
+}
+
+void hl_pipeline_free(struct hl_pipeline *p)
+{
+	if (!p)
+		return;
+	hl_pipeline_stop(p);
+	hl_snapshot_free(p->snap);
+	free(p->cur);
+	free(p->lux);
+	free(p->rgba);
+	free(p->failsafe_dims[0]);
+	free(p->failsafe_dims[1]);
+	pthread_cond_destroy(&p->up);
+	pthread_mutex_destroy(&p->lock);
+	free(p);
+}
+
+void hl_pipeline_set_failsafe(struct hl_pipeline *p, enum hl_failsafe mode,
+			      const uint8_t *const dims[2])
+{
+	pthread_mutex_lock(&p->lock);
+	p->failsafe = mode;
+	for (int l = 0; l < p->n_lamps; l++) {
+		free(p->failsafe_dims[l]);
+		p->failsafe_dims[l] = NULL;
+		if (mode == HL_FAILSAFE_PRESET && dims && dims[l]) {
+			p->failsafe_dims[l] = malloc(p->snap->n_sources);
+			if (p->failsafe_dims[l])
+				memcpy(p->failsafe_dims[l], dims[l], p->snap->n_sources);
+		}
+	}
+	pthread_mutex_unlock(&p->lock);
+}
+
+void hl_pipeline_set_exposure(struct hl_pipeline *p, double ev)
+{
+	pthread_mutex_lock(&p->lock);
+	p->exposure_ev = ev;
+	pthread_mutex_unlock(&p->lock);
+}
+
+void hl_pipeline_counts(struct hl_pipeline *p, struct hl_pipeline_counts *ret)
+{
+	pthread_mutex_lock(&p->lock);
+	*ret = p->c;
+	pthread_mutex_unlock(&p->lock);
+}
+
+const char *hl_pipeline_describe(const struct hl_pipeline *p)
+{
+	return p->describe;
+}
+
+const struct hl_gbuffer *hl_pipeline_gbuffer(const struct hl_pipeline *p)
+{
+	return p->gb;
+}
+
+const struct hl_camera *hl_pipeline_camera(const struct hl_pipeline *p)
+{
+	return &p->cam;
+}
+
+/* Render-thread set-up: EGL, scene, G-buffer, renderer. */
+static int setup(struct hl_pipeline *p)
+{
+	struct hl_egl_error eerr = { "" };
+	struct hl_renderer_config rc_cfg = { 0 };
+	struct hl_lamp_pose poses[2];
+	int kind, rc;
+
+	rc = hl_egl_new(&p->egl, &eerr);
+	if (rc < 0) {
+		snprintf(p->start_err, sizeof(p->start_err), "no EGL/GLES context: %s", eerr.msg);
+		return rc;
+	}
+	kind = hl_scene_from_name(p->cfg.scene);
+	if (kind < 0) {
+		snprintf(p->start_err, sizeof(p->start_err), "render.scene '%s': unknown scene",
+			 p->cfg.scene);
+		return -EINVAL;
+	}
+	hl_lamp_pose_default(0, &poses[0]);
+	hl_lamp_pose_default(1, &poses[1]);
+	hl_scene_init(&p->scene, kind, poses);
+	hl_scene_default_camera(&p->scene, p->cfg.width, p->cfg.height, &p->cam);
+	rc = hl_gbuffer_new(p->cfg.width, p->cfg.height, &p->gb);
+	if (rc == 0)
+		rc = hl_scene_render(&p->scene, &p->cam, p->gb);
+	if (rc < 0) {
+		snprintf(p->start_err, sizeof(p->start_err), "scene '%s': %s", p->cfg.scene,
+			 strerror(-rc));
+		return rc;
+	}
+	rc_cfg.n_lamps = p->n_lamps;
+	rc_cfg.lids[0] = p->lids[0];
+	rc_cfg.lids[1] = p->n_lamps > 1 ? p->lids[1] : NULL;
+	memcpy(rc_cfg.poses, poses, sizeof(poses));
+	rc_cfg.combine = hl_backend_from_name(p->cfg.combine);
+	rc_cfg.headlight = hl_backend_from_name(p->cfg.headlight);
+	rc_cfg.egl = p->egl;
+	rc = hl_renderer_new(&rc_cfg, p->gb, &p->r);
+	if (rc < 0) {
+		snprintf(p->start_err, sizeof(p->start_err), "cannot set up the renderer: %s",
+			 strerror(-rc));
+		return rc;
+	}
+	snprintf(p->describe, sizeof(p->describe),
+		 "EGL %s, %s; combine on %s, headlight pass on %s", hl_egl_platform(p->egl),
+		 hl_egl_renderer(p->egl), hl_backend_name(hl_renderer_combine_backend(p->r)),
+		 hl_backend_name(hl_renderer_headlight_backend(p->r)));
+	return 0;
+}
+
+static void teardown(struct hl_pipeline *p)
+{
+	hl_renderer_free(p->r);
+	p->r = NULL;
+	hl_gbuffer_free(p->gb);
+	p->gb = NULL;
+	hl_egl_free(p->egl);
+	p->egl = NULL;
+}
+
+static void record_time(struct hl_pipeline *p, double ms, bool published, uint32_t flags)
+{
+	static const double edges[7] = { 1, 2, 5, 10, 20, 50, 100 };
+	int b = 0;
+
+	while (b < 7 && ms > edges[b])
+		b++;
+	pthread_mutex_lock(&p->lock);
+	p->c.render_ms_last = ms;
+	if (ms > p->c.render_ms_max)
+		p->c.render_ms_max = ms;
+	p->c.render_ms_buckets[b]++;
+	p->c.render_ms_sum += ms;
+	if (published)
+		p->c.frames++;
+	else
+		p->c.not_published++;
+	for (int l = 0; l < 2; l++)
+		if (flags & HL_FRAME_FAILSAFE(l))
+			p->c.failsafe_frames[l]++;
+	pthread_mutex_unlock(&p->lock);
+}
+
+/* One frame from the snapshot in p->snap. */
+static void render(struct hl_pipeline *p)
+{
+	struct hl_frame *f = hl_frame_pool_acquire(p->pool);
+	const struct hl_snapshot *s = p->snap;
+	const int64_t t0 = hl_monotonic_ns();
+	uint32_t flags = 0;
+	enum hl_failsafe mode;
+	double ev;
+	int newest = 0;
+
+	pthread_mutex_lock(&p->lock);
+	mode = p->failsafe;
+	ev = p->exposure_ev;
+	for (int l = 0; l < p->n_lamps; l++) {
+		const float *in = s->i + (size_t)l * s->n_sources;
+		/* a lamp with no valid cycle yet counts as stale: there is nothing to show */
+		const bool stale = (s->lamps[l].status & HL_LAMP_STALE) ||
+				   !(s->lamps[l].status & HL_LAMP_VALID);
+
+		for (int k = 0; k < s->n_sources; k++) {
+			float v = in[k];
+
+			if (stale && mode == HL_FAILSAFE_DARK)
+				v = 0.0f;
+			else if (stale && mode == HL_FAILSAFE_PRESET && p->failsafe_dims[l])
+				v = (float)p->failsafe_dims[l][k] / 63.0f;
+			p->cur[k] = v;
+			if (f)
+				f->dims[l][k] = (uint8_t)lroundf(v * 63.0f);
+		}
+		if (stale)
+			flags |= HL_FRAME_STALE(l) | HL_FRAME_FAILSAFE(l);
+		hl_renderer_set_currents(p->r, l, p->cur);
+		if (s->lamps[l].t_rx_first_ns > s->lamps[newest].t_rx_first_ns)
+			newest = l;
+	}
+	pthread_mutex_unlock(&p->lock);
+
+	hl_renderer_frame(p->r, f ? f->lux : p->lux);
+	if (f) {
+		switch (p->view) {
+		case HL_VIEW_LUX:
+			hl_view_lux(p->gb, f->lux, &p->lux_opts, f->pixels);
+			break;
+		case HL_VIEW_HDR: {
+			uint16_t *h = (uint16_t *)f->pixels;
+			const size_t n = (size_t)p->cfg.width * p->cfg.height * 4;
+
+			hl_view_hdr(p->gb, f->lux, p->rgba);
+			for (size_t i = 0; i < n; i++)
+				h[i] = hl_half_from_float(p->rgba[i]);
+			break;
+		}
+		default:
+			hl_view_display(p->gb, f->lux, ev, f->pixels);
+			break;
+		}
+		for (int l = 0; l < p->n_lamps; l++) {
+			const struct hl_lid_grid *g = hl_renderer_grid(p->r, l);
+
+			memcpy(f->dist[l], hl_renderer_distribution(p->r, l),
+			       sizeof(float) * (size_t)g->width * g->height);
+			f->hdr.cycle_seq[l] = s->lamps[l].cycle_seq;
+			f->hdr.counter[l] = s->lamps[l].counter;
+		}
+		f->hdr.flags = flags;
+		f->hdr.t_cycle_rx_ns = s->lamps[newest].t_rx_first_ns;
+		f->hdr.t_cycle_done_ns = s->t_push_ns;
+		f->hdr.t_render_start_ns = t0;
+		f->hdr.t_render_done_ns = hl_monotonic_ns();
+		f->hdr.t_sent_ns = 0;
+		hl_frame_pool_publish(p->pool, f);
+		if (p->hooks.published)
+			p->hooks.published(p->hooks.userdata, f);
+	}
+	record_time(p, (double)(hl_monotonic_ns() - t0) / 1e6, f != NULL, flags);
+}
+
+static void *thread_main(void *arg)
+{
+	struct hl_pipeline *p = arg;
+	const int64_t period_ns = p->cfg.rate_hz > 0 ? (int64_t)(1e9 / p->cfg.rate_hz) : 0;
+	int64_t next_ns = hl_monotonic_ns();
+	bool have = false;
+	int rc = setup(p);
+
+	pthread_mutex_lock(&p->lock);
+	p->start_rc = rc;
+	pthread_cond_broadcast(&p->up);
+	pthread_mutex_unlock(&p->lock);
+	if (rc < 0) {
+		teardown(p);
+		return NULL;
+	}
+	while (!atomic_load(&p->stop)) {
+		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
+		int timeout_ms = IDLE_WAKE_MS;
+		uint64_t wakes;
+		bool fresh;
+
+		if (p->hooks.alive)
+			p->hooks.alive(p->hooks.userdata);
+		if (period_ns) {
+			const int64_t now = hl_monotonic_ns();
+
+			timeout_ms = next_ns > now ? (int)((next_ns - now) / 1000000) : 0;
+		}
+		if (poll(&pfd, 1, timeout_ms) > 0 && read(p->wake_fd, &wakes, sizeof(wakes)) < 0) {
+			/* reset lost: the next poll returns at once */
+		}
+		/* the newest complete state: what came in meanwhile is superseded (counted) */
+		fresh = hl_ring_take_newest(p->ring, p->snap);
+		have |= fresh;
+		if (!have)
+			continue;
+		if (period_ns) {
+			if (hl_monotonic_ns() < next_ns)
+				continue;
+			next_ns += period_ns;
+			render(p);
+		} else if (fresh) {
+			render(p);
+		}
+	}
+	teardown(p);
+	return NULL;
+}
+
+int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size)
+{
+	int rc;
+
+	p->start_rc = 1;
+	rc = pthread_create(&p->thread, NULL, thread_main, p);
+	if (rc) {
+		snprintf(err, err_size, "cannot start the render thread: %s", strerror(rc));
+		return -rc;
+	}
+	p->started = true;
+	pthread_mutex_lock(&p->lock);
+	while (p->start_rc == 1)
+		pthread_cond_wait(&p->up, &p->lock);
+	rc = p->start_rc;
+	pthread_mutex_unlock(&p->lock);
+	if (rc < 0) {
+		snprintf(err, err_size, "%s", p->start_err);
+		hl_pipeline_stop(p);
+	}
+	return rc;
+}
+
+void hl_pipeline_stop(struct hl_pipeline *p)
+{
+	if (!p->started)
+		return;
+	atomic_store(&p->stop, 1);
+	pthread_join(p->thread, NULL);
+	p->started = false;
+}

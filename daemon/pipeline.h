@@ -1,0 +1,68 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The render thread (DESIGN.md §2): it owns the EGL context and the renderer, takes the newest
+ * complete snapshot from the ring whenever the CAN thread pushes one (or at a fixed rate),
+ * applies each stale lamp's fail-safe (hold, dark or a preset), renders the scene, converts it
+ * to the configured view in a frame from the pool and publishes it with its latency stamps.
+ *
+ * Thread-safety: start/stop/counts from the main thread; the rest runs on the render thread.
+ * The callbacks run on the render thread and must not block.
+ */
+#ifndef HL_DAEMON_PIPELINE_H
+#define HL_DAEMON_PIPELINE_H
+
+#include <stdint.h>
+
+#include "daemon/config.h"
+#include "daemon/frame_pool.h"
+#include "daemon/ring.h"
+#include "render/lid.h"
+#include "render/scene.h"
+
+struct hl_pipeline_hooks {
+	void *userdata;
+	void (*published)(void *userdata, const struct hl_frame *f); /* after every publish */
+	void (*alive)(void *userdata); /* once per loop turn: the watchdog */
+};
+
+struct hl_pipeline_counts {
+	uint64_t frames; /* rendered and published */
+	uint64_t not_published; /* rendered, but every pool frame was held by readers */
+	uint64_t failsafe_frames[2]; /* frames with the lamp's fail-safe active */
+	double render_ms_last, render_ms_max;
+	/* render time histogram, ms: <= 1, 2, 5, 10, 20, 50, 100, +inf */
+	uint64_t render_ms_buckets[8];
+	double render_ms_sum;
+};
+
+struct hl_pipeline;
+
+/*
+ * failsafe_dims: per lamp the preset's raw values (n_sources each) for HL_FAILSAFE_PRESET, else
+ * NULL. lids must outlive the pipeline. 0, -errno.
+ */
+int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
+		    const uint8_t *const failsafe_dims[2], struct hl_ring *ring, int wake_fd,
+		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
+		    struct hl_pipeline **ret);
+void hl_pipeline_free(struct hl_pipeline *p);
+
+/*
+ * Starts the render thread and waits until it has an EGL context and a renderer (or failed:
+ * then err says why). 0, -errno.
+ */
+int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size);
+void hl_pipeline_stop(struct hl_pipeline *p);
+
+/* The renderer's description ("EGL surfaceless, llvmpipe ...; combine cpu, headlight cpu"). */
+const char *hl_pipeline_describe(const struct hl_pipeline *p);
+/* The static G-buffer (valid between start and stop; read-only). */
+const struct hl_gbuffer *hl_pipeline_gbuffer(const struct hl_pipeline *p);
+const struct hl_camera *hl_pipeline_camera(const struct hl_pipeline *p);
+/* Live settings a reload may change. */
+void hl_pipeline_set_failsafe(struct hl_pipeline *p, enum hl_failsafe mode,
+			      const uint8_t *const dims[2]);
+void hl_pipeline_set_exposure(struct hl_pipeline *p, double ev);
+void hl_pipeline_counts(struct hl_pipeline *p, struct hl_pipeline_counts *ret);
+
+#endif

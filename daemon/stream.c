@@ -1,0 +1,374 @@
+/* SPDX-License-Identifier: MIT */
+#include "daemon/stream.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include "can/candump_log.h"
+
+#define MAX_CLIENTS 64
+#define POLL_MS 100
+
+struct client {
+	int fd;
+	uint8_t *buf; /* header + pixels of the frame being sent */
+	size_t len, off;
+	uint64_t last_seq;
+	uint64_t sent, skipped;
+};
+
+struct hl_stream {
+	struct hl_frame_pool *pool;
+	bool raw;
+	int max_clients;
+	int tcp_fd, unix_fd, wake_fd, tcp_port;
+	char unix_path[108];
+	size_t frame_bytes;
+	struct client clients[MAX_CLIENTS];
+	pthread_t thread;
+	bool started;
+	atomic_int stop;
+	pthread_mutex_t lock; /* counts */
+	struct hl_stream_counts c;
+};
+
+static int listen_tcp(const char *spec, int *ret_port, char *err, size_t err_size)
+{
+	char host[128];
+	const char *colon = strrchr(spec, ':');
+	struct addrinfo hints = { .ai_family = AF_UNSPEC,
+				  .ai_socktype = SOCK_STREAM,
+				  .ai_flags = AI_NUMERICHOST | AI_NUMERICSERV };
+	struct addrinfo *ai = NULL;
+	struct sockaddr_storage ss;
+	socklen_t sl = sizeof(ss);
+	const int one = 1;
+	int fd, rc;
+
+	if (!colon || colon == spec || (size_t)(colon - spec) >= sizeof(host)) {
+		snprintf(err, err_size, "stream.tcp '%s': expected host:port", spec);
+		return -EINVAL;
+	}
+	memcpy(host, spec, colon - spec);
+	host[colon - spec] = '\0';
+	if (host[0] == '[' && host[strlen(host) - 1] == ']') {
+		memmove(host, host + 1, strlen(host));
+		host[strlen(host) - 1] = '\0';
+	}
+	rc = getaddrinfo(host, colon + 1, &hints, &ai);
+	if (rc) {
+		snprintf(err, err_size, "stream.tcp '%s': %s", spec, gai_strerror(rc));
+		return -EINVAL;
+	}
+	fd = socket(ai->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+	if (fd < 0 || setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one)) < 0 ||
+	    bind(fd, ai->ai_addr, ai->ai_addrlen) < 0 || listen(fd, 8) < 0 ||
+	    getsockname(fd, (struct sockaddr *)&ss, &sl) < 0) {
+		rc = -errno;
+		snprintf(err, err_size, "stream.tcp '%s': %s", spec, strerror(errno));
+		if (fd >= 0)
+			close(fd);
+		freeaddrinfo(ai);
+		return rc;
+	}
+	freeaddrinfo(ai);
+	*ret_port = ntohs(ss.ss_family == AF_INET6 ? ((struct sockaddr_in6 *)&ss)->sin6_port :
+						     ((struct sockaddr_in *)&ss)->sin_port);
+	return fd;
+}
+
+static int listen_unix(const char *path, char *err, size_t err_size)
+{
+	struct sockaddr_un sa = { .sun_family = AF_UNIX };
+	int fd, rc;
+
+	if (strlen(path) >= sizeof(sa.sun_path)) {
+		snprintf(err, err_size, "stream.unix '%s': path too long", path);
+		return -EINVAL;
+	}
+	strcpy(sa.sun_path, path);
+	unlink(path); /* a stale socket of an earlier run */
+	fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+	if (fd < 0 || bind(fd, (struct sockaddr *)&sa, sizeof(sa)) < 0 || listen(fd, 8) < 0) {
+		rc = -errno;
+		snprintf(err, err_size, "stream.unix '%s': %s", path, strerror(errno));
+		if (fd >= 0)
+			close(fd);
+		return rc;
+	}
+	return fd;
+}
+
+int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clients,
+		  struct hl_frame_pool *pool, struct hl_stream **ret, char *err, size_t err_size)
+{
+	const struct hl_frame_shape *sh = hl_frame_pool_shape(pool);
+	struct hl_stream *s;
+
+	if (max_clients < 1 || max_clients > MAX_CLIENTS) {
+		snprintf(err, err_size, "stream.max_clients: expected 1..%d", MAX_CLIENTS);
+		return -EINVAL;
+	}
+	s = calloc(1, sizeof(*s));
+	if (!s)
+		return -ENOMEM;
+	s->pool = pool;
+	s->raw = raw;
+	s->max_clients = max_clients;
+	s->tcp_fd = s->unix_fd = -1;
+	for (int i = 0; i < MAX_CLIENTS; i++)
+		s->clients[i].fd = -1;
+	s->frame_bytes = sizeof(struct hl_frame_header) +
+			 (size_t)sh->width * sh->height * (sh->format == HL_PIXEL_RGBA16F ? 8 : 3);
+	pthread_mutex_init(&s->lock, NULL);
+	atomic_init(&s->stop, 0);
+	s->wake_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+	if (s->wake_fd < 0) {
+		snprintf(err, err_size, "eventfd: %s", strerror(errno));
+		hl_stream_free(s);
+		return -EIO;
+	}
+	if (tcp && tcp[0]) {
+		s->tcp_fd = listen_tcp(tcp, &s->tcp_port, err, err_size);
+		if (s->tcp_fd < 0) {
+			int rc = s->tcp_fd;
+
+			hl_stream_free(s);
+			return rc;
+		}
+	}
+	if (unix_path && unix_path[0]) {
+		s->unix_fd = listen_unix(unix_path, err, err_size);
+		if (s->unix_fd < 0) {
+			int rc = s->unix_fd;
+
+			hl_stream_free(s);
+			return rc;
+		}
+		snprintf(s->unix_path, sizeof(s->unix_path), "%s", unix_path);
+	}
+	*ret = s;
+	return 0;
+}
+
+static void drop_client(struct hl_stream *s, struct client *c)
+{
+	close(c->fd);
+	free(c->buf);
+	*c = (struct client){ .fd = -1 };
+	pthread_mutex_lock(&s->lock);
+	s->c.clients--;
+	pthread_mutex_unlock(&s->lock);
+}
+
+void hl_stream_free(struct hl_stream *s)
+{
+	if (!s)
+		return;
+	hl_stream_stop(s);
+	for (int i = 0; i < MAX_CLIENTS; i++)
+		if (s->clients[i].fd >= 0)
+			drop_client(s, &s->clients[i]);
+	if (s->tcp_fd >= 0)
+		close(s->tcp_fd);
+	if (s->unix_fd >= 0) {
+		close(s->unix_fd);
+		unlink(s->unix_path);
+	}
+	if (s->wake_fd >= 0)
+		close(s->wake_fd);
+	pthread_mutex_destroy(&s->lock);
+	free(s);
+}
+
+static void accept_client(struct hl_stream *s, int lfd)
+{
+	const int fd = accept4(lfd, NULL, NULL, SOCK_CLOEXEC | SOCK_NONBLOCK);
+	struct client *c = NULL;
+	int n = 0;
+
+	if (fd < 0)
+		return;
+	for (int i = 0; i < MAX_CLIENTS; i++) {
+		if (s->clients[i].fd >= 0)
+			n++;
+		else if (!c)
+			c = &s->clients[i];
+	}
+	if (n >= s->max_clients || !c || !(c->buf = malloc(s->frame_bytes))) {
+		close(fd);
+		pthread_mutex_lock(&s->lock);
+		s->c.rejected++;
+		pthread_mutex_unlock(&s->lock);
+		return;
+	}
+	c->fd = fd;
+	c->len = c->off = 0;
+	c->last_seq = 0;
+	pthread_mutex_lock(&s->lock);
+	s->c.accepted++;
+	s->c.clients++;
+	pthread_mutex_unlock(&s->lock);
+}
+
+/* A client with nothing pending gets the newest frame, if newer than its last. */
+static void load_frame(struct hl_stream *s, struct client *c)
+{
+	struct hl_frame *f = hl_frame_pool_get(s->pool, c->last_seq, 0);
+	struct hl_frame_header h;
+	uint64_t skipped = 0;
+
+	if (!f)
+		return;
+	h = f->hdr;
+	h.t_sent_ns = hl_monotonic_ns();
+	if (s->raw) {
+		memcpy(c->buf, f->pixels, h.payload_size);
+		c->len = h.payload_size;
+	} else {
+		memcpy(c->buf, &h, sizeof(h));
+		memcpy(c->buf + sizeof(h), f->pixels, h.payload_size);
+		c->len = sizeof(h) + h.payload_size;
+	}
+	hl_frame_pool_release(s->pool, f);
+	if (c->last_seq)
+		skipped = h.seq - c->last_seq - 1;
+	c->last_seq = h.seq;
+	c->off = 0;
+	c->skipped += skipped;
+	pthread_mutex_lock(&s->lock);
+	s->c.frames_skipped += skipped;
+	pthread_mutex_unlock(&s->lock);
+}
+
+/* Sends what the socket takes now; false when the client is gone. */
+static bool pump(struct hl_stream *s, struct client *c)
+{
+	while (c->off < c->len) {
+		ssize_t n =
+			send(c->fd, c->buf + c->off, c->len - c->off, MSG_NOSIGNAL | MSG_DONTWAIT);
+
+		if (n < 0)
+			return errno == EAGAIN || errno == EINTR;
+		c->off += (size_t)n;
+		pthread_mutex_lock(&s->lock);
+		s->c.bytes_sent += (uint64_t)n;
+		if (c->off == c->len)
+			s->c.frames_sent++;
+		pthread_mutex_unlock(&s->lock);
+	}
+	return true;
+}
+
+static void *thread_main(void *arg)
+{
+	struct hl_stream *s = arg;
+
+	while (!atomic_load(&s->stop)) {
+		struct pollfd pfd[3 + MAX_CLIENTS];
+		struct client *who[3 + MAX_CLIENTS];
+		nfds_t n = 0;
+		uint64_t wakes;
+
+		pfd[n++] = (struct pollfd){ .fd = s->wake_fd, .events = POLLIN };
+		if (s->tcp_fd >= 0)
+			pfd[n++] = (struct pollfd){ .fd = s->tcp_fd, .events = POLLIN };
+		if (s->unix_fd >= 0)
+			pfd[n++] = (struct pollfd){ .fd = s->unix_fd, .events = POLLIN };
+		for (int i = 0; i < MAX_CLIENTS; i++) {
+			struct client *c = &s->clients[i];
+
+			if (c->fd < 0)
+				continue;
+			if (c->off == c->len)
+				load_frame(s, c);
+			who[n] = c;
+			pfd[n++] = (struct pollfd){
+				.fd = c->fd, .events = POLLIN | (c->off < c->len ? POLLOUT : 0)
+			};
+		}
+		if (poll(pfd, n, POLL_MS) <= 0)
+			continue;
+		for (nfds_t i = 0; i < n; i++) {
+			char sink[256];
+
+			if (!pfd[i].revents)
+				continue;
+			if (pfd[i].fd == s->wake_fd) {
+				if (read(s->wake_fd, &wakes, sizeof(wakes)) < 0) {
+					/* reset lost: we only poll once more */
+				}
+			} else if (pfd[i].fd == s->tcp_fd || pfd[i].fd == s->unix_fd) {
+				accept_client(s, pfd[i].fd);
+			} else {
+				struct client *c = who[i];
+				bool alive = true;
+
+				if (pfd[i].revents & (POLLERR | POLLHUP))
+					alive = false;
+				if (alive && (pfd[i].revents & POLLIN))
+					alive = recv(c->fd, sink, sizeof(sink), MSG_DONTWAIT) !=
+							0 ||
+						errno == EAGAIN;
+				if (alive && (pfd[i].revents & POLLOUT))
+					alive = pump(s, c);
+				if (!alive)
+					drop_client(s, c);
+			}
+		}
+	}
+	return NULL;
+}
+
+int hl_stream_start(struct hl_stream *s)
+{
+	int rc = pthread_create(&s->thread, NULL, thread_main, s);
+
+	if (rc)
+		return -rc;
+	s->started = true;
+	return 0;
+}
+
+void hl_stream_stop(struct hl_stream *s)
+{
+	if (!s->started)
+		return;
+	atomic_store(&s->stop, 1);
+	hl_stream_wake(s);
+	pthread_join(s->thread, NULL);
+	s->started = false;
+}
+
+void hl_stream_wake(struct hl_stream *s)
+{
+	const uint64_t one = 1;
+
+	if (write(s->wake_fd, &one, sizeof(one)) < 0) {
+		/* the counter is saturated only if nobody reads: the thread polls every POLL_MS */
+	}
+}
+
+void hl_stream_counts(struct hl_stream *s, struct hl_stream_counts *ret)
+{
+	pthread_mutex_lock(&s->lock);
+	*ret = s->c;
+	pthread_mutex_unlock(&s->lock);
+}
+
+int hl_stream_tcp_port(const struct hl_stream *s)
+{
+	return s->tcp_fd >= 0 ? s->tcp_port : 0;
+}

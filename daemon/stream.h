@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The frame stream (README "Frame stream"): a TCP and/or Unix socket; every client receives the
+ * newest published frame - the 128-byte header (daemon/frame.h) and the pixels, or the pixels
+ * only in raw mode (for ffmpeg -f rawvideo). A client that reads slower than frames are
+ * published skips to the newest (counted); it never holds a pool frame while it reads, so it
+ * cannot delay the renderer or other clients, and its memory is one frame, fixed at accept.
+ *
+ * Thread-safety: new/start/stop/free/counts from the main thread; hl_stream_wake from any
+ * thread (the render thread calls it after each publish). The stream runs its own thread.
+ */
+#ifndef HL_DAEMON_STREAM_H
+#define HL_DAEMON_STREAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "daemon/frame_pool.h"
+
+struct hl_stream_counts {
+	uint64_t accepted, rejected, clients; /* rejected: over max_clients */
+	uint64_t frames_sent, frames_skipped, bytes_sent;
+};
+
+struct hl_stream;
+
+/* tcp "host:port" or "" (off), unix_path or "" (off). err says which address failed. */
+int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clients,
+		  struct hl_frame_pool *pool, struct hl_stream **ret, char *err, size_t err_size);
+void hl_stream_free(struct hl_stream *s);
+int hl_stream_start(struct hl_stream *s);
+void hl_stream_stop(struct hl_stream *s);
+void hl_stream_wake(struct hl_stream *s);
+void hl_stream_counts(struct hl_stream *s, struct hl_stream_counts *ret);
+/* The TCP port actually bound (for "host:0"), 0 when off. */
+int hl_stream_tcp_port(const struct hl_stream *s);
+
+#endif
