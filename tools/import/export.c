@@ -173,8 +173,12 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 		return -EINVAL;
 	if (system != HL_GONIO_A && system != HL_GONIO_B && system != HL_GONIO_C)
 		return -EINVAL;
-	if (step_deg <= 0.0)
-		step_deg = system == own ? fmin(dh, dv) : fmin(dh, dv) / 4.0;
+	if (step_deg <= 0.0) {
+		/* the nominal grid step: the float grid ends make 0.2 into 0.2000000034 */
+		step_deg = round(fmin(dh, dv) * 1e6) / 1e6;
+		if (system != own)
+			step_deg /= 4.0;
+	}
 	if (!isfinite(step_deg) || step_deg < 1e-3 || step_deg > 10.0)
 		return -EINVAL;
 	if (system == own && fabs(step_deg - dh) < 1e-6 * dh && fabs(step_deg - dv) < 1e-6 * dv) {
