@@ -55,8 +55,8 @@ static int check_angle(struct hl_text *t, int line, int col, const char *what, d
 {
 	if (a < lo || a > hi)
 		return hl_text_fail_at(t, line, col, -EBADMSG,
-				       "expected %s angle in %g..%g degrees, found %g", what, lo,
-				       hi, a);
+				       "expected the %s angle in %g..%g degrees, found %g", what,
+				       lo, hi, a);
 	if (prev) {
 		int d = a > *prev ? 1 : a < *prev ? -1 : 0;
 
@@ -132,7 +132,7 @@ static int parse(struct hl_text *t, struct hl_gonio **ret)
 				goto out;
 			}
 			rc = check_angle(t, header_line, c.col,
-					 system == HL_GONIO_C ? "a C (column)" : "an H (column)", a,
+					 system == HL_GONIO_C ? "C (column)" : "H (column)", a,
 					 p_lo, p_hi, n_cols ? &cols[n_cols - 1] : NULL, &col_dir);
 			if (rc < 0)
 				goto out;
@@ -202,9 +202,8 @@ static int parse(struct hl_text *t, struct hl_gonio **ret)
 					     "the first cell");
 			goto out;
 		}
-		rc = check_angle(t, line, c.col,
-				 system == HL_GONIO_C ? "a gamma (row)" : "a V (row)", a, i_lo,
-				 i_hi, n_rows ? &rows[n_rows - 1] : NULL, &row_dir);
+		rc = check_angle(t, line, c.col, system == HL_GONIO_C ? "gamma (row)" : "V (row)",
+				 a, i_lo, i_hi, n_rows ? &rows[n_rows - 1] : NULL, &row_dir);
 		if (rc < 0)
 			goto out;
 		rows[n_rows] = a;

@@ -218,8 +218,9 @@ static int parse(struct hl_text *t, struct hl_eulumdat_info *info, struct hl_gon
 	info->scale = info->lamp_flux_lm / 1000.0 * info->conversion_factor;
 
 	n_values = (size_t)n_planes * (size_t)ng;
-	/* one value per line: at least two bytes each; refuse before allocating */
-	if ((size_t)(t->end - t->p) / 2 + 1 < n_values + (size_t)mc + (size_t)ng)
+	/* one value per line, at least two bytes each: refuse a large table that cannot be there */
+	if (n_values > 65536 &&
+	    (size_t)(t->end - t->p) / 2 + 1 < n_values + (size_t)mc + (size_t)ng)
 		return hl_text_fail(t, -EBADMSG,
 				    "the file is too short for the %ld C angles, %ld gamma angles "
 				    "and %zu intensities its header announces (truncated?)",

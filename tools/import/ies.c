@@ -140,7 +140,7 @@ static int angles(struct hl_text *t, int n, double *a, const char *what, double 
 
 static int parse_body(struct hl_text *t, struct hl_ies_info *info, struct hl_gonio **ret)
 {
-	struct pos at, v_first, v_last, h_first, h_last;
+	struct pos at, counts, v_first, v_last, h_first, h_last;
 	double v, dims[3], *vert = NULL, *hori = NULL;
 	long n_lamps, n_v, n_h, type, units;
 	float *values = NULL;
@@ -167,6 +167,7 @@ static int parse_body(struct hl_text *t, struct hl_ies_info *info, struct hl_gon
 		return rc;
 	hl_text_skip_blanks(t, true, true);
 	at = (struct pos){ t->line, t->col };
+	counts = at;
 	if ((rc = hl_text_int(t, true, "the number of horizontal angles", 1, MAX_ANGLES, &n_h)) < 0)
 		return rc;
 	if (n_v * n_h > MAX_VALUES)
@@ -211,10 +212,14 @@ static int parse_body(struct hl_text *t, struct hl_ies_info *info, struct hl_gon
 	if (strcmp(info->version, "IES:LM-63-2019") != 0)
 		info->scale *= info->ballast_lamp_factor;
 
-	/* Each number takes at least one character and one separator: refuse before allocating. */
+	/*
+	 * Each number takes at least one character and one separator: refuse a large table that
+	 * cannot be there before allocating it (small ones fail where the data ends).
+	 */
 	n_values = (size_t)n_v * (size_t)n_h;
-	if ((size_t)(t->end - t->p) / 2 + 1 < n_values + (size_t)n_v + (size_t)n_h)
-		return hl_text_fail_at(t, at.line, at.col, -EBADMSG,
+	if (n_values > 65536 &&
+	    (size_t)(t->end - t->p) / 2 + 1 < n_values + (size_t)n_v + (size_t)n_h)
+		return hl_text_fail_at(t, counts.line, counts.col, -EBADMSG,
 				       "the file is too short for the %ld + %ld angles and %ld x "
 				       "%ld candela values its header announces (truncated?)",
 				       n_v, n_h, n_h, n_v);
