@@ -132,13 +132,17 @@ static void cr_weights(double t, double w[4])
  */
 static double lid_lookup(const struct hl_lid_grid *g, const float *dense, double h, double v)
 {
-	const double fx =
-		(h - g->h_first_deg) * (g->width - 1) / ((double)g->h_last_deg - g->h_first_deg);
-	const double fy = ((double)g->v_last_deg - v) * (g->height - 1) /
-			  ((double)g->v_last_deg - g->v_first_deg);
-	double wx[4], wy[4], sum = 0.0;
+	double h0, h1, v0, v1, fx, fy, wx[4], wy[4], sum = 0.0;
 	int x0, y0;
 
+	hl_resample_grid_ends(g, &h0, &h1, &v0, &v1);
+	fx = (h - h0) * (g->width - 1) / (h1 - h0);
+	fy = (v1 - v) * (g->height - 1) / (v1 - v0);
+	/* a table angle on a sample is exactly on it, not a rounding error beside it */
+	if (fabs(fx - round(fx)) < 1e-9)
+		fx = round(fx);
+	if (fabs(fy - round(fy)) < 1e-9)
+		fy = round(fy);
 	if (!(fx >= 0.0 && fx <= g->width - 1 && fy >= 0.0 && fy <= g->height - 1))
 		return 0.0;
 	x0 = fx < g->width - 2 ? (int)fx : g->width - 2;
@@ -160,8 +164,7 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 {
 	const struct hl_lid_grid *g = hl_lid_grid(lid);
 	const enum hl_gonio_system own = g->angles == HL_ANGLES_A ? HL_GONIO_A : HL_GONIO_B;
-	const double dh = ((double)g->h_last_deg - g->h_first_deg) / (g->width - 1);
-	const double dv = ((double)g->v_last_deg - g->v_first_deg) / (g->height - 1);
+	double gh0, gh1, gv0, gv1, dh, dv;
 	double p_lo = INFINITY, p_hi = -INFINITY, q_lo = INFINITY, q_hi = -INFINITY;
 	double full_p_lo, full_p_hi, full_q_lo, full_q_hi, margin, p_origin = 0, q_origin = 0;
 	struct list planes = { 0 }, in = { 0 };
@@ -171,19 +174,21 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 
 	if (k < 0 || k >= hl_lid_n_sources(lid))
 		return -EINVAL;
+	hl_resample_grid_ends(g, &gh0, &gh1, &gv0, &gv1);
+	dh = (gh1 - gh0) / (g->width - 1);
+	dv = (gv1 - gv0) / (g->height - 1);
 	if (system != HL_GONIO_A && system != HL_GONIO_B && system != HL_GONIO_C)
 		return -EINVAL;
 	if (step_deg <= 0.0) {
-		/* the nominal grid step: the float grid ends make 0.2 into 0.2000000034 */
-		step_deg = round(fmin(dh, dv) * 1e6) / 1e6;
+		step_deg = fmin(dh, dv);
 		if (system != own)
 			step_deg /= 4.0;
 	}
 	if (!isfinite(step_deg) || step_deg < 1e-3 || step_deg > 10.0)
 		return -EINVAL;
 	if (system == own && fabs(step_deg - dh) < 1e-6 * dh && fabs(step_deg - dv) < 1e-6 * dv) {
-		p_origin = g->h_first_deg;
-		q_origin = g->v_first_deg;
+		p_origin = gh0;
+		q_origin = gv0;
 	}
 	if (system == HL_GONIO_C)
 		full_p_lo = 0, full_p_hi = 360, full_q_lo = 0, full_q_hi = 180;

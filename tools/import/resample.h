@@ -12,6 +12,14 @@
 #include "render/lid.h"
 #include "tools/import/gonio.h"
 
+/*
+ * The grid's ends as the decimals they were written as: the shortest decimal that rounds to
+ * the stored float (-89.9f is -89.90000153 as a double; here it is -89.9). Sample angles are
+ * computed from these, so a table written at -89.9 + j * 0.2 meets the samples exactly.
+ */
+void hl_resample_grid_ends(const struct hl_lid_grid *grid, double *ret_h_first, double *ret_h_last,
+			   double *ret_v_first, double *ret_v_last);
+
 /* Fills dense (grid->width * grid->height floats, row 0 = highest V) with g on the grid. */
 void hl_resample(const struct hl_gonio *g, const struct hl_lid_grid *grid, float *dense);
 
