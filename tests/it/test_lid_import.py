@@ -183,3 +183,25 @@ def test_bad_manifest_and_usage(tmp_path):
             "--out", tmp_path / "x.ies", check=False)
     assert p.returncode == 1 and "no source 'nope'" in p.stderr
     assert run("lid", "export", "--help").returncode == 0
+
+
+def test_combined_distribution_exports_and_imports(tmp_path):
+    # a combined LID (channel I, one distribution) needs no --source
+    run("model", "--out", tmp_path)
+    run("lid", "combine", tmp_path / "hd84_left.lid.exr", tmp_path / "low.json", "--lamp", "left",
+        "--out", tmp_path / "low.lid.exr")
+    out = run("lid", "export", tmp_path / "low.lid.exr", "--angles", "C", "--out",
+              tmp_path / "low.ies").stdout
+    assert "type C" in out
+    text = (tmp_path / "low.ies").read_text()
+    assert text.startswith("IES:LM-63-2019\n") and "\nTILT=NONE\n" in text
+    assert text.split("TILT=NONE\n")[1].split()[5] == "1"  # photometric type 1 = C
+    m = manifest(tmp_path / "low.ini", [], [(tmp_path / "low.ies", "low_beam")])
+    run("lid", "import", "--manifest", m, "--out", tmp_path / "back.lid.exr")
+    want = grid_values(tmp_path, tmp_path / "low.lid.exr", 1, "want")
+    got = grid_values(tmp_path, tmp_path / "back.lid.exr", "low_beam", "got")
+    peak = max(want.values())
+    assert peak > 20000  # DESIGN.md: low beam peaks near 25 kcd
+    for key, w in want.items():
+        if w > 0.01 * peak and abs(key[0]) < 89 and -29 < key[1] < 19:
+            assert abs(got.get(key, 0.0) - w) <= 0.005 * w, (key, w, got.get(key))

@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "import_test_util.h"
+#include "tools/import/export.h"
 #include "tools/import/ies.h"
 #include "tools/import/resample.h"
 
@@ -420,6 +421,51 @@ static void ies_messages_say_what_was_expected(void **state)
 	assert_null(g);
 }
 
+/* Exports are LM-63-2019 with the required keywords and the right photometric type. */
+static void ies_export_writes_lm63_2019(void **state)
+{
+	const struct hl_lid_grid grid = { 5, 3, HL_ANGLES_A, -2.0f, 2.0f, -1.0f, 1.0f };
+	const float dense[15] = { 0, 1, 2, 1, 0, 1, 2, 4, 2, 1, 0, 1, 2, 1, 0 };
+	const struct hl_export_meta meta = { "beam", "source 1 of test", "2026-11-21" };
+	static const char *const keywords[] = {
+		"[TEST] ",    "[TESTLAB] ",	 "[ISSUEDATE] 2026-11-21\n",
+		"[MANUFAC] ", "[LUMCAT] beam\n", "\nTILT=NONE\n"
+	};
+	struct hl_lid *lid;
+
+	(void)state;
+	assert_int_equal(hl_lid_new(1, &grid, false, &lid), 0);
+	assert_int_equal(hl_lid_set_source(lid, 0, dense), 0);
+	for (int s = 0; s < 3; s++) {
+		const enum hl_gonio_system system = (enum hl_gonio_system)s;
+		struct hl_import_error err;
+		struct hl_ies_info info;
+		struct hl_gonio *out, *in;
+		char *text;
+		size_t len;
+		FILE *f;
+
+		assert_int_equal(hl_export_sample(lid, 0, system, 0.0, &out), 0);
+		f = open_memstream(&text, &len);
+		assert_int_equal(hl_export_ies(out, &meta, f), 0);
+		fclose(f);
+		assert_int_equal(strncmp(text, "IES:LM-63-2019\n", 15), 0);
+		for (size_t k = 0; k < sizeof(keywords) / sizeof(keywords[0]); k++)
+			assert_non_null(strstr(text, keywords[k]));
+		assert_int_equal(hl_ies_parse(text, len, "mem.ies", &in, &info, &err), 0);
+		assert_string_equal(info.version, "IES:LM-63-2019");
+		assert_int_equal(info.photometric_type, s == 0 ? 3 : s == 1 ? 2 : 1);
+		assert_true(info.lumens_per_lamp == -1.0 && info.scale == 1.0);
+		assert_int_equal(hl_gonio_system(in), system);
+		/* the centre sample, (H, V) = (0, 0), is (0, 0) in A and B and (0, 90) in C */
+		assert_cd(hl_gonio_lookup(in, 0.0, s == 2 ? 90.0 : 0.0), 4.0);
+		hl_gonio_free(out);
+		hl_gonio_free(in);
+		free(text);
+	}
+	hl_lid_free(lid);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -431,6 +477,7 @@ int main(void)
 		cmocka_unit_test(ies_keywords_more_and_wrapped_rows),
 		cmocka_unit_test(ies_malformed_corpus_rejected),
 		cmocka_unit_test(ies_messages_say_what_was_expected),
+		cmocka_unit_test(ies_export_writes_lm63_2019),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

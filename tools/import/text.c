@@ -230,18 +230,17 @@ int hl_text_number(struct hl_text *t, bool commas, const char *what, double *ret
 
 int hl_text_int(struct hl_text *t, bool commas, const char *what, long min, long max, long *ret)
 {
-	const int line0 = t->line;
-	int col0;
+	int line, col, rc;
 	double v;
-	int rc;
 
 	hl_text_skip_blanks(t, true, commas);
-	col0 = t->col;
+	line = t->line; /* a number never spans lines: this is where it is */
+	col = t->col;
 	rc = hl_text_number(t, commas, what, &v);
 	if (rc < 0)
 		return rc;
 	if (v != floor(v) || v < (double)min || v > (double)max)
-		return hl_text_fail_at(t, t->line == line0 ? line0 : t->line, col0, -EBADMSG,
+		return hl_text_fail_at(t, line, col, -EBADMSG,
 				       "expected %s, an integer from %ld to %ld, found %g", what,
 				       min, max, v);
 	*ret = (long)v;
