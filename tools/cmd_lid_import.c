@@ -227,6 +227,13 @@ int hl_cmd_lid_export(int argc, char **argv)
 	if (system < 0)
 		system = hl_lid_grid(lid)->angles == HL_ANGLES_A ? HL_GONIO_A : HL_GONIO_B;
 	c = hl_export_sample(lid, k, system, step, &g);
+	if (c == -EFBIG) {
+		fprintf(stderr,
+			"hdlamp lid export: source %d at a step of %g deg needs more than %d angles "
+			"or %ld values: give a coarser --step\n",
+			k + 1, step, HL_EXPORT_MAX_ANGLES, HL_EXPORT_MAX_VALUES);
+		goto out;
+	}
 	if (c < 0) {
 		fprintf(stderr, "hdlamp lid export: cannot sample source %d: %s\n", k + 1,
 			strerror(-c));

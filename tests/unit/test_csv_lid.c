@@ -115,6 +115,23 @@ static void csv_export_in_own_angles_is_exact(void **state)
 	hl_lid_free(lid);
 }
 
+/* Exports stay within what the readers take back; bad arguments are -EINVAL. */
+static void export_refuses_tables_too_large_to_read_back(void **state)
+{
+	struct hl_gonio *g = NULL;
+	struct hl_lid *lid;
+
+	(void)state;
+	assert_int_equal(hl_model_hd84(HL_SIDE_LEFT, &lid), 0);
+	assert_int_equal(hl_export_sample(lid, HL_HD84_APRON - 1, HL_GONIO_B, 0.001, &g), -EFBIG);
+	assert_int_equal(hl_export_sample(lid, 0, HL_GONIO_A, 20.0, &g), -EINVAL);
+	assert_int_equal(hl_export_sample(lid, 0, HL_GONIO_A, NAN, &g), -EINVAL);
+	assert_int_equal(hl_export_sample(lid, HL_HD84_SOURCES, HL_GONIO_A, 0.0, &g), -EINVAL);
+	assert_int_equal(hl_export_sample(lid, -1, HL_GONIO_A, 0.0, &g), -EINVAL);
+	assert_null(g);
+	hl_lid_free(lid);
+}
+
 static const struct corpus_case csv_corpus[] = {
 	{ "csv_column_out_of_order.csv", -EBADMSG, 1 },
 	{ "csv_nan.csv", -EBADMSG, 4 },
@@ -171,6 +188,7 @@ int main(void)
 		cmocka_unit_test(csv_reads_rows_and_columns_in_either_order),
 		cmocka_unit_test(csv_type_c_wraps_only_when_closed),
 		cmocka_unit_test(csv_export_in_own_angles_is_exact),
+		cmocka_unit_test(export_refuses_tables_too_large_to_read_back),
 		cmocka_unit_test(csv_malformed_corpus_rejected),
 		cmocka_unit_test(csv_errors_name_the_cell),
 	};

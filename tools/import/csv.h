@@ -22,7 +22,10 @@
 #include "tools/import/error.h"
 #include "tools/import/gonio.h"
 
-/* 0, -EBADMSG (err: file, line, column, what was expected), -ENOMEM. */
+/*
+ * 0, -EBADMSG (err: file, line, column, what was expected), -ENOMEM.
+ * Thread-safety: reentrant.
+ */
 int hl_csv_parse(const char *buf, size_t len, const char *name, struct hl_gonio **ret,
 		 struct hl_import_error *err);
 /* The same from a file; also -ENOENT and other -errno of open/read. */

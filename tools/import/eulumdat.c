@@ -319,19 +319,21 @@ out:
 }
 
 int hl_eulumdat_parse(const char *buf, size_t len, const char *name, struct hl_gonio **ret,
-		      struct hl_eulumdat_info *info, struct hl_import_error *err)
+		      struct hl_eulumdat_info *ret_info, struct hl_import_error *err)
 {
-	struct hl_eulumdat_info scratch;
+	struct hl_eulumdat_info info;
 	struct hl_text t;
+	int rc;
 
-	if (!info)
-		info = &scratch;
-	memset(info, 0, sizeof(*info));
+	memset(&info, 0, sizeof(info));
 	hl_text_init(&t, buf, len, name, err);
-	return parse(&t, info, ret);
+	rc = parse(&t, &info, ret);
+	if (rc == 0 && ret_info)
+		*ret_info = info;
+	return rc;
 }
 
-int hl_eulumdat_read(const char *path, struct hl_gonio **ret, struct hl_eulumdat_info *info,
+int hl_eulumdat_read(const char *path, struct hl_gonio **ret, struct hl_eulumdat_info *ret_info,
 		     struct hl_import_error *err)
 {
 	char *buf;
@@ -340,7 +342,7 @@ int hl_eulumdat_read(const char *path, struct hl_gonio **ret, struct hl_eulumdat
 
 	if (rc < 0)
 		return rc;
-	rc = hl_eulumdat_parse(buf, len, path, ret, info, err);
+	rc = hl_eulumdat_parse(buf, len, path, ret, ret_info, err);
 	free(buf);
 	return rc;
 }

@@ -38,11 +38,14 @@ struct hl_eulumdat_info {
 	double scale; /* applied to every value: lamp_flux_lm / 1000 * conversion_factor */
 };
 
-/* 0, -EBADMSG (err: file, line, what was expected), -ENOMEM. info optional. */
+/*
+ * 0, -EBADMSG (err: file, line, what was expected), -ENOMEM. ret_info (optional) receives
+ * the header's facts, like *ret only on success. Thread-safety: reentrant.
+ */
 int hl_eulumdat_parse(const char *buf, size_t len, const char *name, struct hl_gonio **ret,
-		      struct hl_eulumdat_info *info, struct hl_import_error *err);
+		      struct hl_eulumdat_info *ret_info, struct hl_import_error *err);
 /* The same from a file; also -ENOENT and other -errno of open/read. */
-int hl_eulumdat_read(const char *path, struct hl_gonio **ret, struct hl_eulumdat_info *info,
+int hl_eulumdat_read(const char *path, struct hl_gonio **ret, struct hl_eulumdat_info *ret_info,
 		     struct hl_import_error *err);
 
 #endif

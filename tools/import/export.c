@@ -231,6 +231,12 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 			  false, &in);
 	if (rc < 0)
 		goto out;
+	/* what the readers take back (ies.c, csv.c): at most 100000 angles, 16 Mi values */
+	if (planes.n > HL_EXPORT_MAX_ANGLES || in.n > HL_EXPORT_MAX_ANGLES ||
+	    (long)planes.n * in.n > HL_EXPORT_MAX_VALUES) {
+		rc = -EFBIG;
+		goto out;
+	}
 	values = malloc(sizeof(float) * (size_t)planes.n * in.n);
 	if (!values) {
 		rc = -ENOMEM;

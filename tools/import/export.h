@@ -13,6 +13,8 @@
  *     gamma 0..180), so the file covers what readers expect; outside the lit region these are 0.
  * Values are the LID's bilinear lookup (DESIGN.md §4) at each table direction, exact
  * conversion through the direction vector.
+ *
+ * Thread-safety: reentrant; the lid is only read.
  */
 #ifndef HL_IMPORT_EXPORT_H
 #define HL_IMPORT_EXPORT_H
@@ -23,11 +25,14 @@
 #include "tools/import/gonio.h"
 
 #define HL_EXPORT_COARSE_DEG 5.0 /* step of the frame outside the lit region, degrees */
+#define HL_EXPORT_MAX_ANGLES 100000 /* per axis, as the IES and CSV readers accept */
+#define HL_EXPORT_MAX_VALUES (16L << 20) /* per table, as the IES and CSV readers accept */
 
 /*
  * Source k (0-based) of lid as a table in the given system. step_deg <= 0 picks the default:
  * the grid step (the smaller of H and V) when system is the grid's, a quarter of it otherwise.
- * Returns 0, -EINVAL (bad k or step), -ENOMEM.
+ * Returns 0, -EINVAL (bad k or step), -EFBIG (the table would exceed HL_EXPORT_MAX_ANGLES or
+ * HL_EXPORT_MAX_VALUES: choose a coarser step), -ENOMEM.
  */
 int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system system, double step_deg,
 		     struct hl_gonio **ret);

@@ -332,23 +332,23 @@ out:
 }
 
 int hl_ies_parse(const char *buf, size_t len, const char *name, struct hl_gonio **ret,
-		 struct hl_ies_info *info, struct hl_import_error *err)
+		 struct hl_ies_info *ret_info, struct hl_import_error *err)
 {
-	struct hl_ies_info scratch;
+	struct hl_ies_info info;
 	struct hl_text t;
 	int rc;
 
-	if (!info)
-		info = &scratch;
-	memset(info, 0, sizeof(*info));
+	memset(&info, 0, sizeof(info));
 	hl_text_init(&t, buf, len, name, err);
-	rc = parse_header(&t, info);
-	if (rc < 0)
-		return rc;
-	return parse_body(&t, info, ret);
+	rc = parse_header(&t, &info);
+	if (rc == 0)
+		rc = parse_body(&t, &info, ret);
+	if (rc == 0 && ret_info)
+		*ret_info = info;
+	return rc;
 }
 
-int hl_ies_read(const char *path, struct hl_gonio **ret, struct hl_ies_info *info,
+int hl_ies_read(const char *path, struct hl_gonio **ret, struct hl_ies_info *ret_info,
 		struct hl_import_error *err)
 {
 	char *buf;
@@ -357,7 +357,7 @@ int hl_ies_read(const char *path, struct hl_gonio **ret, struct hl_ies_info *inf
 
 	if (rc < 0)
 		return rc;
-	rc = hl_ies_parse(buf, len, path, ret, info, err);
+	rc = hl_ies_parse(buf, len, path, ret, ret_info, err);
 	free(buf);
 	return rc;
 }

@@ -43,12 +43,13 @@ struct hl_ies_info {
  * Parses an IES file held in buf[0..len); name is used in messages only.
  * Returns 0, -EBADMSG (malformed; err says file, line, column and what was expected),
  * -ENOTSUP (valid LM-63 that hdlamp does not take: tilt tables), -ENOMEM.
- * info (optional) receives what the header said.
+ * ret_info (optional) receives what the header said; like *ret, only on success.
+ * Thread-safety: reentrant (no shared state).
  */
 int hl_ies_parse(const char *buf, size_t len, const char *name, struct hl_gonio **ret,
-		 struct hl_ies_info *info, struct hl_import_error *err);
+		 struct hl_ies_info *ret_info, struct hl_import_error *err);
 /* The same from a file; also -ENOENT and other -errno of open/read. */
-int hl_ies_read(const char *path, struct hl_gonio **ret, struct hl_ies_info *info,
+int hl_ies_read(const char *path, struct hl_gonio **ret, struct hl_ies_info *ret_info,
 		struct hl_import_error *err);
 
 #endif

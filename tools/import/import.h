@@ -2,6 +2,7 @@
 /*
  * Building a lamp from measured files: each source of the manifest is read (IES, EULUMDAT or
  * CSV), resampled onto the manifest's grid (resample.h) and named.
+ * Thread-safety: reentrant.
  */
 #ifndef HL_IMPORT_IMPORT_H
 #define HL_IMPORT_IMPORT_H

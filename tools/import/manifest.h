@@ -40,6 +40,7 @@ struct hl_manifest;
  * Parses a manifest held in buf[0..len); name is for messages, base_dir (may be NULL for the
  * current directory) resolves relative file names.
  * 0, -EBADMSG (err: manifest, line, column, expected), -ENOMEM.
+ * Thread-safety: reentrant; a manifest is read-only once parsed.
  */
 int hl_manifest_parse(const char *buf, size_t len, const char *name, const char *base_dir,
 		      struct hl_manifest **ret, struct hl_import_error *err);

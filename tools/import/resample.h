@@ -5,6 +5,8 @@
  * angles (A, B or C); the table is interpolated there (bilinear in its own angles, zero outside
  * its coverage, gonio.h). No angle system is approximated by another: the conversions go
  * through the exact direction vector (render/angles.h, typec.h).
+ *
+ * Thread-safety: reentrant; tables and grids are only read.
  */
 #ifndef HL_IMPORT_RESAMPLE_H
 #define HL_IMPORT_RESAMPLE_H
