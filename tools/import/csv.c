@@ -107,12 +107,18 @@ static int parse(struct hl_text *t, struct hl_gonio **ret)
 					       "expected the angle system A, B or C in the first "
 					       "cell of the header");
 		system = c.s[0] == 'A' ? HL_GONIO_A : c.s[0] == 'B' ? HL_GONIO_B : HL_GONIO_C;
-		if (system == HL_GONIO_A)
-			p_lo = -180, p_hi = 180, i_lo = -90, i_hi = 90;
-		else if (system == HL_GONIO_B)
-			p_lo = -90, p_hi = 90, i_lo = -180, i_hi = 180;
-		else
-			p_lo = 0, p_hi = 360, i_lo = 0, i_hi = 180;
+		{
+			static const double r[3][4] = {
+				[HL_GONIO_A] = { -180, 180, -90, 90 },
+				[HL_GONIO_B] = { -90, 90, -180, 180 },
+				[HL_GONIO_C] = { 0, 360, 0, 180 },
+			};
+
+			p_lo = r[system][0];
+			p_hi = r[system][1];
+			i_lo = r[system][2];
+			i_hi = r[system][3];
+		}
 		cols = malloc(sizeof(double) * cap);
 		if (!cols)
 			return -ENOMEM;

@@ -190,10 +190,15 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 		p_origin = gh0;
 		q_origin = gv0;
 	}
-	if (system == HL_GONIO_C)
-		full_p_lo = 0, full_p_hi = 360, full_q_lo = 0, full_q_hi = 180;
-	else
-		full_p_lo = -90, full_p_hi = 90, full_q_lo = -90, full_q_hi = 90;
+	if (system == HL_GONIO_C) {
+		full_p_lo = 0.0;
+		full_p_hi = 360.0;
+		full_q_lo = 0.0;
+		full_q_hi = 180.0;
+	} else {
+		full_p_lo = full_q_lo = -90.0;
+		full_p_hi = full_q_hi = 90.0;
+	}
 
 	dense = malloc(sizeof(float) * (size_t)g->width * g->height);
 	if (!dense)
@@ -218,12 +223,14 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 		}
 	}
 	margin = 2.0 * fmax(dh, dv) + 2.0 * step_deg;
-	if (system == HL_GONIO_A) /* type A may look beyond +-90 in H */
-		full_p_lo = fmin(full_p_lo, fmax(p_lo - margin, -180.0)),
+	if (system == HL_GONIO_A) { /* type A may look beyond +-90 in H */
+		full_p_lo = fmin(full_p_lo, fmax(p_lo - margin, -180.0));
 		full_p_hi = fmax(full_p_hi, fmin(p_hi + margin, 180.0));
-	if (system == HL_GONIO_B)
-		full_q_lo = fmin(full_q_lo, fmax(q_lo - margin, -180.0)),
+	}
+	if (system == HL_GONIO_B) { /* and type B beyond +-90 in V */
+		full_q_lo = fmin(full_q_lo, fmax(q_lo - margin, -180.0));
 		full_q_hi = fmax(full_q_hi, fmin(q_hi + margin, 180.0));
+	}
 	rc = axis(p_lo - margin, p_hi + margin, step_deg, p_origin, full_p_lo, full_p_hi,
 		  system == HL_GONIO_C, &planes);
 	if (rc == 0)

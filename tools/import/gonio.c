@@ -21,20 +21,14 @@ struct hl_gonio {
 	bool periodic; /* type C planes span exactly 360 degrees */
 };
 
-static void range_of(enum hl_gonio_system s, double *p_lo, double *p_hi, double *i_lo, double *i_hi)
-{
-	switch (s) {
-	case HL_GONIO_A:
-		*p_lo = -180.0, *p_hi = 180.0, *i_lo = -90.0, *i_hi = 90.0;
-		break;
-	case HL_GONIO_B:
-		*p_lo = -90.0, *p_hi = 90.0, *i_lo = -180.0, *i_hi = 180.0;
-		break;
-	default:
-		*p_lo = 0.0, *p_hi = 360.0, *i_lo = 0.0, *i_hi = 180.0;
-		break;
-	}
-}
+/* Plane and in-plane angle ranges of each system, degrees (see gonio.h). */
+static const struct {
+	double p_lo, p_hi, i_lo, i_hi;
+} ranges[] = {
+	[HL_GONIO_A] = { -180.0, 180.0, -90.0, 90.0 },
+	[HL_GONIO_B] = { -90.0, 90.0, -180.0, 180.0 },
+	[HL_GONIO_C] = { 0.0, 360.0, 0.0, 180.0 },
+};
 
 static bool increasing_in(const double *a, int n, double lo, double hi)
 {
@@ -59,7 +53,10 @@ int hl_gonio_new(enum hl_gonio_system system, int n_planes, const double *planes
 		return -EINVAL;
 	if (n_planes < 2 || n_in < 2)
 		return -EINVAL;
-	range_of(system, &p_lo, &p_hi, &i_lo, &i_hi);
+	p_lo = ranges[system].p_lo;
+	p_hi = ranges[system].p_hi;
+	i_lo = ranges[system].i_lo;
+	i_hi = ranges[system].i_hi;
 	/* a periodic type C table may start anywhere in 0..360 and span up to 360 */
 	if (system == HL_GONIO_C)
 		p_hi = planes[0] + 360.0;
@@ -102,12 +99,11 @@ struct expansion {
 	int *from;
 };
 
-static int push(struct expansion *e, double angle, int from)
+static void push(struct expansion *e, double angle, int from)
 {
 	e->angles[e->n] = angle;
 	e->from[e->n] = from;
 	e->n++;
-	return 0;
 }
 
 static int build(enum hl_gonio_system system, const struct expansion *e, int n_in, const double *in,
