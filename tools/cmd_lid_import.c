@@ -39,8 +39,9 @@ static void usage_export(FILE *f)
 		"  --angles  angle system of the table; default: the LID's own (A or B)\n"
 		"  --step    angle step over the source's lit region, degrees; default: the grid\n"
 		"            step in the LID's own system (the values are then the grid's own),\n"
-		"            a quarter of it in another system. Outside the lit region the table\n"
-		"            has a 5 degree frame of zeros over the format's full range.\n");
+		"            a quarter of it in another system, refined where the light curves\n"
+		"            (to 0.1 %%). Outside the lit region the table has a 5 degree frame of\n"
+		"            zeros over the format's full range.\n");
 }
 
 int hl_cmd_lid_import(int argc, char **argv)

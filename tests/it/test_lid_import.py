@@ -122,8 +122,8 @@ def grid_values(tmp_path, lid, source, tag):
     ("C", "ies", ["row1_led01", "row2_led15", "row3_led28", "apron", "lb_rise"]),
     ("A", "csv", ["row2_led15", "motorway"]),
     ("C", "csv", ["row2_led15", "motorway"]),
-    ("B", "ies", ["hb_spot"]),
-    ("B", "csv", ["hb_spot"]),
+    ("B", "ies", ["row1_led01", "row3_led28", "hb_spot", "lb_rise"]),
+    ("B", "csv", ["row2_led15", "motorway"]),
 ])
 def test_round_trip_through_export_and_import(tmp_path, angles, fmt, sources):
     run("model", "--out", tmp_path)

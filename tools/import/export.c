@@ -159,6 +159,74 @@ static double lid_lookup(const struct hl_lid_grid *g, const float *dense, double
 	return sum > 0.0 ? sum : 0.0;
 }
 
+/* The LID at every (planes[i], in[j]) of a table: values[i * in->n + j]. */
+static void sample_table(const struct hl_lid_grid *g, const float *dense,
+			 enum hl_gonio_system system, enum hl_gonio_system own,
+			 const struct list *planes, const struct list *in, float *values)
+{
+	for (int i = 0; i < planes->n; i++) {
+		for (int j = 0; j < in->n; j++) {
+			double h = planes->a[i], v = in->a[j], d[3];
+
+			if (system != own) {
+				hl_gonio_angles_to_dir(system, planes->a[i], in->a[j], d);
+				hl_gonio_angles_from_dir(own, d, &h, &v);
+			}
+			values[(size_t)i * in->n + j] = (float)lid_lookup(g, dense, h, v);
+		}
+	}
+}
+
+/*
+ * Refines one axis of a sampled table where the distribution curves along it: linear
+ * interpolation over an interval of length h misses by about h^2 / 8 * |f''|; f'' comes from
+ * the table's own divided differences. An interval is cut into n equal parts so that this
+ * stays below REFINE_TOL of the value there (or of floor_cd, if larger); n <= REFINE_MAX.
+ * along_planes: the axis is the plane angles (rows of values), else the in-plane angles.
+ */
+#define REFINE_TOL 0.001
+#define REFINE_MAX 16
+
+static int refine_axis(const struct list *axis, const struct list *other, struct list *out,
+		       const float *values, bool along_planes, double floor_cd)
+{
+	const int n = axis->n;
+	double *curv = calloc(n, sizeof(double));
+	int rc = 0;
+
+	if (!curv)
+		return -ENOMEM;
+	for (int i = 1; i + 1 < n; i++) {
+		const double h0 = axis->a[i] - axis->a[i - 1], h1 = axis->a[i + 1] - axis->a[i];
+
+		for (int j = 0; j < other->n; j++) {
+			const size_t at0 = along_planes ? (size_t)(i - 1) * other->n + j :
+							  (size_t)j * n + (i - 1);
+			const size_t stride = along_planes ? (size_t)other->n : 1;
+			const double f0 = values[at0], f1 = values[at0 + stride];
+			const double f2 = values[at0 + 2 * stride];
+			const double d2 = 2.0 * ((f2 - f1) / h1 - (f1 - f0) / h0) / (h0 + h1);
+
+			curv[i] = fmax(curv[i], fabs(d2) / fmax(fmax(f1, floor_cd), 1e-30));
+		}
+	}
+	for (int i = 0; i + 1 < n && rc == 0; i++) {
+		const double a = axis->a[i], b = axis->a[i + 1], h = b - a;
+		/* relative error of linear interpolation over h */
+		const double err = h * h / 8.0 * fmax(curv[i], curv[i + 1]);
+		int parts = (int)ceil(sqrt(err / REFINE_TOL));
+
+		if (parts > REFINE_MAX)
+			parts = REFINE_MAX;
+		for (int m = 0; m < (parts > 1 ? parts : 1) && rc == 0; m++)
+			rc = add(out, a + h * m / (parts > 1 ? parts : 1));
+	}
+	if (rc == 0)
+		rc = add(out, axis->a[n - 1]);
+	free(curv);
+	return rc;
+}
+
 int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system system, double step_deg,
 		     struct hl_gonio **ret)
 {
@@ -167,7 +235,7 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 	double gh0, gh1, gv0, gv1, dh, dv;
 	double p_lo = INFINITY, p_hi = -INFINITY, q_lo = INFINITY, q_hi = -INFINITY;
 	double full_p_lo, full_p_hi, full_q_lo, full_q_hi, margin, p_origin = 0, q_origin = 0;
-	struct list planes = { 0 }, in = { 0 };
+	struct list planes = { 0 }, in = { 0 }, new_planes = { 0 }, new_in = { 0 };
 	struct hl_lid_box box;
 	float *dense = NULL, *values = NULL;
 	int rc;
@@ -238,6 +306,38 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 			  false, &in);
 	if (rc < 0)
 		goto out;
+	/*
+	 * In a system whose directions are not the grid's (B for an A grid; A or C for a B grid)
+	 * the table is refined where the distribution curves, so that interpolating it bilinearly
+	 * stays within REFINE_TOL: sharp edges get finer angles, smooth light does not.
+	 */
+	if (system != own && !(system == HL_GONIO_C && own == HL_GONIO_A)) {
+		const double floor_cd = 0.01 * hl_lid_peak_cd(lid, k);
+
+		if ((long)planes.n * in.n > HL_EXPORT_MAX_VALUES) {
+			rc = -EFBIG;
+			goto out;
+		}
+		values = malloc(sizeof(float) * (size_t)planes.n * in.n);
+		if (!values) {
+			rc = -ENOMEM;
+			goto out;
+		}
+		sample_table(g, dense, system, own, &planes, &in, values);
+		/* both axes from the same base table; then swap the refined lists in */
+		rc = refine_axis(&planes, &in, &new_planes, values, true, floor_cd);
+		if (rc == 0)
+			rc = refine_axis(&in, &planes, &new_in, values, false, floor_cd);
+		free(values);
+		values = NULL;
+		if (rc < 0)
+			goto out;
+		free(planes.a);
+		free(in.a);
+		planes = new_planes;
+		in = new_in;
+		new_planes.a = new_in.a = NULL;
+	}
 	/* what the readers take back (ies.c, csv.c): at most 100000 angles, 16 Mi values */
 	if (planes.n > HL_EXPORT_MAX_ANGLES || in.n > HL_EXPORT_MAX_ANGLES ||
 	    (long)planes.n * in.n > HL_EXPORT_MAX_VALUES) {
@@ -249,23 +349,15 @@ int hl_export_sample(const struct hl_lid *lid, int k, enum hl_gonio_system syste
 		rc = -ENOMEM;
 		goto out;
 	}
-	for (int i = 0; i < planes.n; i++) {
-		for (int j = 0; j < in.n; j++) {
-			double h = planes.a[i], v = in.a[j], d[3];
-
-			if (system != own) {
-				hl_gonio_angles_to_dir(system, planes.a[i], in.a[j], d);
-				hl_gonio_angles_from_dir(own, d, &h, &v);
-			}
-			values[(size_t)i * in.n + j] = (float)lid_lookup(g, dense, h, v);
-		}
-	}
+	sample_table(g, dense, system, own, &planes, &in, values);
 	rc = hl_gonio_new(system, planes.n, planes.a, in.n, in.a, values, ret);
 out:
 	free(dense);
 	free(values);
 	free(planes.a);
 	free(in.a);
+	free(new_planes.a);
+	free(new_in.a);
 	return rc;
 }
 

@@ -11,8 +11,12 @@
  *     the grid's sample angles, so the values are the grid's own;
  *   - coarse: every 5 degrees over the format's full range (A, B: H and V -90..90; C: C 0..360,
  *     gamma 0..180), so the file covers what readers expect; outside the lit region these are 0.
- * Values are the LID's bilinear lookup (DESIGN.md §4) at each table direction, exact
- * conversion through the direction vector.
+ *   - refined: when the table's directions are not the grid's (B for an A grid; A or C for a
+ *     B grid), intervals where linear interpolation would miss the light by more than 0.1 %
+ *     (of the value, at least of 1 % of the peak) are cut into up to 16 parts.
+ * Values are the LID between its samples (a Catmull-Rom spline through them, clamped at 0:
+ * exact at the samples) at each table direction, converted exactly through the direction
+ * vector.
  *
  * Thread-safety: reentrant; the lid is only read.
  */
