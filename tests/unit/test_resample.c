@@ -311,6 +311,53 @@ static void roundtrip_type_b_hd84_within_half_percent(void **state)
 	free(back);
 }
 
+/*
+ * The other way round: a lamp on a type B grid (HD84 sources carried over through type B
+ * tables) exported to types A and C, whose directions are not the B grid's, and read back.
+ */
+static void roundtrip_from_a_type_b_grid_within_half_percent(void **state)
+{
+	static const int sources[] = { 14, 45, 84, 94 };
+	struct hl_lid_grid grid;
+	struct hl_lid *a_lid, *b_lid;
+	float *dense = malloc(sizeof(float) * 900 * 250);
+
+	(void)state;
+	assert_int_equal(hl_model_hd84(HL_SIDE_LEFT, &a_lid), 0);
+	hl_model_default_grid(&grid);
+	grid.angles = HL_ANGLES_B;
+	assert_int_equal(hl_lid_new(4, &grid, false, &b_lid), 0);
+	for (int k = 0; k < 4; k++) {
+		struct hl_gonio *g;
+
+		assert_int_equal(hl_export_sample(a_lid, sources[k] - 1, HL_GONIO_B, 0.0, &g), 0);
+		hl_resample(g, &grid, dense);
+		assert_int_equal(hl_lid_set_source(b_lid, k, dense), 0);
+		hl_gonio_free(g);
+	}
+	for (int s = 0; s < 3; s += 2) {
+		const enum hl_gonio_system system = s == 0 ? HL_GONIO_A : HL_GONIO_C;
+		struct errors worst = { 0, 0 };
+
+		for (int k = 0; k < 4; k++) {
+			struct errors e;
+
+			round_trip(b_lid, k, system, 0.0, k % 2, dense);
+			e = compare(b_lid, k, dense);
+			worst.rel = fmax(worst.rel, e.rel);
+			worst.abs = fmax(worst.abs, e.abs);
+		}
+		fprintf(stderr,
+			"round trip from a type B grid to type %c: max rel %.4f %%, max abs %.4f "
+			"%% of peak\n",
+			hl_gonio_system_letter(system), 100.0 * worst.rel, 100.0 * worst.abs);
+		assert_true(worst.rel <= 0.005);
+	}
+	hl_lid_free(a_lid);
+	hl_lid_free(b_lid);
+	free(dense);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -321,6 +368,7 @@ int main(void)
 		cmocka_unit_test(roundtrip_types_a_c_and_csv_within_half_percent),
 		cmocka_unit_test(roundtrip_type_b_smooth_sources_within_half_percent),
 		cmocka_unit_test(roundtrip_type_b_hd84_within_half_percent),
+		cmocka_unit_test(roundtrip_from_a_type_b_grid_within_half_percent),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
