@@ -18,12 +18,17 @@ static void usage(FILE *f)
 		"usage: hdlamp lid info FILE\n"
 		"       hdlamp lid combine FILE PRESET.json --lamp left|right --out L.exr\n"
 		"       hdlamp lid plot FILE [PRESET.json --lamp left|right] --out D.png\n"
+		"       hdlamp lid import --manifest M.ini --out LAMP.lid.exr\n"
+		"       hdlamp lid export FILE --source N|NAME --out F.ies|F.csv [--angles A|B|C]\n"
 		"\n"
 		"info     grid, angle system, sources with their non-zero boxes and peaks\n"
 		"combine  L = sum_k (v_k / 63) L_k for one lamp of the preset, written as a\n"
 		"         combined LID file (one channel I, cd)\n"
 		"plot     H-V diagram in cd on a log colour scale; a source file needs a preset\n"
-		"         (without one every source is drawn at full current)\n");
+		"         (without one every source is drawn at full current)\n"
+		"import   a LID file from measured IES, EULUMDAT and CSV files (manifest)\n"
+		"export   one source as an IES or CSV goniometer table\n"
+		"('hdlamp lid import --help', 'hdlamp lid export --help' for their options)\n");
 }
 
 static int load(const char *path, struct hl_lid **ret)
@@ -166,6 +171,10 @@ int hl_cmd_lid(int argc, char **argv)
 		usage(stdout);
 		return HL_EXIT_OK;
 	}
+	if (strcmp(verb, "import") == 0)
+		return hl_cmd_lid_import(argc - 1, argv + 1);
+	if (strcmp(verb, "export") == 0)
+		return hl_cmd_lid_export(argc - 1, argv + 1);
 	optind = 2;
 	while ((c = getopt_long(argc, argv, "l:o:h", opts, NULL)) != -1) {
 		switch (c) {
