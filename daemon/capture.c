@@ -88,8 +88,20 @@ int hl_capture_write(const char *dir, const struct hl_frame *f, const struct hl_
 					    &lerr);
 	}
 	for (int l = 0; l < sc->n_lamps && rc == 0; l++) {
+		const size_t n = (size_t)sc->grids[l]->width * sc->grids[l]->height;
+		float *d = malloc(sizeof(float) * n);
+
+		if (!d) {
+			rc = -ENOMEM;
+			break;
+		}
+		/* incremental combining leaves float noise of ~1e-5 cd below zero where every source
+		 * is off; a LID file holds intensities >= 0 */
+		for (size_t i = 0; i < n; i++)
+			d[i] = f->dist[l][i] > 0.0f ? f->dist[l][i] : 0.0f;
 		snprintf(file, sizeof(file), "%s/%s.lid.exr", path, sc->lamp_names[l]);
-		rc = hl_lid_write_combined(sc->grids[l], f->dist[l], file, &lerr);
+		rc = hl_lid_write_combined(sc->grids[l], d, file, &lerr);
+		free(d);
 	}
 	if (rc < 0)
 		snprintf(err, err_size, "%s", lerr.msg);

@@ -1,0 +1,37 @@
+"""A client of hdlampd's frame stream (README "Frame stream"): header + pixels per frame."""
+import socket
+import struct
+
+HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB29x")
+MAGIC = 0x524C4448
+FIELDS = ("magic", "version", "header_size", "seq", "width", "height", "stride", "pixel_format",
+          "payload_size", "flags", "t_cycle_rx_ns", "t_cycle_done_ns", "t_render_start_ns",
+          "t_render_done_ns", "t_sent_ns", "cycle_seq_left", "cycle_seq_right", "counter_left",
+          "counter_right", "n_lamps")
+assert HEADER.size == 128
+
+
+def recv_exact(sock, n):
+    buf = bytearray()
+    while len(buf) < n:
+        chunk = sock.recv(n - len(buf))
+        if not chunk:
+            return None
+        buf += chunk
+    return bytes(buf)
+
+
+def read_frame(sock):
+    """The next (header dict, pixels), or None when the daemon closed the stream."""
+    raw = recv_exact(sock, HEADER.size)
+    if raw is None:
+        return None
+    h = dict(zip(FIELDS, HEADER.unpack(raw)))
+    assert h["magic"] == MAGIC and h["version"] == 1 and h["header_size"] == 128, h
+    pixels = recv_exact(sock, h["payload_size"])
+    return (h, pixels) if pixels is not None else None
+
+
+def connect(port, timeout=10):
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    return s
