@@ -195,3 +195,27 @@ def test_sigusr1_capture_reads_back(hdlamp, lamps, tmp_path):
     assert "combined distribution (channel I)" in info
     peak = float(re.search(r"^peak:\s+([\d.]+) cd", info, re.M).group(1))
     assert peak > 1000
+
+
+def test_raw_stream_is_read_by_ffmpeg(hdlamp, lamps, tmp_path):
+    log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), str(tmp_path), phase=10)
+    p, port, _ = start(lamps, "--replay", log, "--loop", "--set", "stream.raw=true")
+    out = tmp_path / "drive.mkv"
+    try:
+        r = subprocess.run(["ffmpeg", "-loglevel", "error", "-f", "rawvideo", "-pixel_format",
+                            "rgb24", "-video_size", f"{SIZE[0]}x{SIZE[1]}", "-framerate", "50",
+                            "-i", f"tcp://127.0.0.1:{port}", "-frames:v", "40", "-c:v", "ffv1",
+                            str(out)], capture_output=True, text=True, timeout=60)
+        assert r.returncode == 0, r.stderr
+    finally:
+        p.send_signal(signal.SIGTERM)
+        p.wait(10)
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0",
+                            "-show_entries", "stream=width,height,nb_read_frames", "-of",
+                            "csv=p=0", str(out)], capture_output=True, text=True, check=True)
+    assert probe.stdout.strip() == f"{SIZE[0]},{SIZE[1]},40"
+    # the video's frames are the scene, not black: decode one back to raw and look
+    raw = subprocess.run(["ffmpeg", "-loglevel", "error", "-i", str(out), "-frames:v", "1",
+                          "-f", "rawvideo", "-pix_fmt", "rgb24", "-"], capture_output=True,
+                         check=True).stdout
+    assert len(raw) == SIZE[0] * SIZE[1] * 3 and len(set(raw)) > 20
