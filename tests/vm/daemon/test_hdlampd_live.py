@@ -1,0 +1,112 @@
+"""hdlampd --can vcan0 rendering (DESIGN.md §6): python-can replays the drive scenario onto
+vcan0, a client reads the frame stream. Frames are tiny (64x36): this VM is ~50x slower."""
+import json
+import re
+import signal
+import subprocess
+import threading
+import time
+
+import can
+
+from pngread import read_png
+from proc import run
+from scenario import HDLAMPD, dbc_path, generate
+from streamclient import connect, read_frame
+
+SIZE = (64, 36)
+
+
+def test_live_render_on_vcan0_frames_match_and_failsafe(hdlamp, tmp_path):
+    run(hdlamp, "model", "--out", tmp_path)
+    log, expect, counters = generate(hdlamp, dbc_path("hd84.dbc"), str(tmp_path), phase=6,
+                                     iface="vcan0")
+    p = subprocess.Popen([HDLAMPD, "--can", "vcan0", "--dbc", dbc_path("hd84.dbc"),
+                          "--set", f"lamps.left={tmp_path}/hd84_left.lid.exr",
+                          "--set", f"lamps.right={tmp_path}/hd84_right.lid.exr",
+                          "--set", f"render.size={SIZE[0]}x{SIZE[1]}",
+                          "--set", "render.combine=cpu", "--set", "render.headlight=cpu",
+                          "--set", "stream.tcp=127.0.0.1:0", "--set", "http.listen="],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    port = None
+    while port is None:
+        line = p.stderr.readline()
+        assert line, "hdlampd exited early"
+        m = re.search(r"\(port (\d+)\)", line)
+        port = int(m.group(1)) if m else None
+    frames, done = [], threading.Event()
+
+    def reader():
+        s = connect(port, timeout=60)
+        while not done.is_set():
+            f = read_frame(s)
+            if f is None:
+                break
+            frames.append(f)
+        s.close()
+
+    t = threading.Thread(target=reader)
+    t.start()
+    time.sleep(1.0)
+    msgs = list(can.LogReader(log))
+    with can.Bus(interface="socketcan", channel="vcan0") as bus:
+        for msg in can.MessageSync(msgs, timestamps=True, gap=0.0001):
+            bus.send(msg)
+    time.sleep(1.0)
+    done.set()
+    p.send_signal(signal.SIGTERM)
+    status = json.loads(p.stdout.read().strip().splitlines()[-1])
+    assert p.wait(30) == 0
+    t.join(30)
+
+    for lamp in ("left", "right"):
+        for key in ("cycles", "crc_errors", "incomplete", "lost_cycles"):
+            assert status["lamps"][lamp][key] == counters[lamp][key], (lamp, key)
+    hs = [h for h, _ in frames]
+    seqs = [h["seq"] for h in hs]
+    skipped = sum(b - a - 1 for a, b in zip(seqs, seqs[1:]))
+    cycles_seen = {h["cycle_seq_left"] for h in hs}
+    print(f"frames received {len(frames)}, skipped {skipped}, rendered "
+          f"{status['frames']['rendered']}, superseded {status['ring']['superseded']}; "
+          f"left cycles seen in frames {len(cycles_seen)} of {counters['left']['cycles']}")
+    # one frame per complete cycle, or the newest when the renderer was slower (counted)
+    assert seqs == sorted(set(seqs))
+    assert status["ring"]["consumed"] + status["ring"]["superseded"] == status["ring"]["pushed"]
+    for h in hs:
+        assert h["t_cycle_done_ns"] <= h["t_render_start_ns"] <= h["t_render_done_ns"] <= h["t_sent_ns"]
+    for a, b in zip(hs, hs[1:]):
+        assert a["t_render_done_ns"] <= b["t_render_start_ns"]
+
+    # the silence: each lamp's fail-safe 100 ms (± 20 ms) after its last cycle, off with the next
+    for lamp, bit, key in ((0, 0b10, "cycle_seq_left"), (1, 0b1000, "cycle_seq_right")):
+        starts = [i for i, h in enumerate(hs)
+                  if h["flags"] & bit and i > 0 and not hs[i - 1]["flags"] & bit
+                  and h[key] > 0]
+        silence = [i for i in starts if any(h[key] == hs[i][key] + 1 for h in hs[i:])]
+        on = silence[-1]
+        last_cycle = min(h["t_cycle_done_ns"] for h in hs[:on] if h[key] == hs[on][key])
+        gap_ms = (hs[on]["t_cycle_done_ns"] - last_cycle) / 1e6
+        print(f"lamp {lamp}: fail-safe on {gap_ms:.1f} ms after its last cycle")
+        assert 80 <= gap_ms <= 120
+        off = next(i for i in range(on, len(hs)) if not hs[i]["flags"] & bit)
+        assert hs[off][key] == hs[on][key] + 1
+
+    # pixels equal 'hdlamp render' of the same dimming values
+    checked = 0
+    for h, px in frames[::max(1, len(frames) // 5)]:
+        n = h["cycle_seq_left"] - 1
+        if h["flags"] & 0b1010 or n < 0 or h["cycle_seq_right"] != h["cycle_seq_left"] \
+                or n >= len(expect["left"]):
+            continue
+        preset = tmp_path / f"p{n}.json"
+        preset.write_text(json.dumps({"left": expect["left"][n][1], "right": expect["right"][n][1]}))
+        out = tmp_path / f"r{n}.png"
+        run(hdlamp, "render", "--lid", f"{tmp_path}/hd84_left.lid.exr", "--lid",
+            f"{tmp_path}/hd84_right.lid.exr", "--preset", preset, "--scene", "road",
+            "--view", "display", "--size", f"{SIZE[0]}x{SIZE[1]}", "--backend", "cpu",
+            "--out", out)
+        ref = b"".join(read_png(out)[3])
+        assert max(abs(a - b) for a, b in zip(ref, px)) <= 1
+        assert len(set(px)) > 10
+        checked += 1
+    assert checked >= 2
