@@ -54,7 +54,7 @@ struct hl_pipeline {
 	/* start-up handshake */
 	pthread_cond_t up;
 	int start_rc; /* 1 while starting */
-	char start_err[256];
+	char start_err[512];
 };
 
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
