@@ -33,6 +33,48 @@
 static int sentinel;
 #define SENTINEL ((struct hl_gpio *)&sentinel)
 
+/*
+ * Counting allocations on the hot paths: this executable's malloc, calloc and realloc take
+ * precedence over libc's for every caller, libgpiod included, and count while asked to.
+ * (Not under AddressSanitizer, which brings its own.)
+ */
+static _Atomic long allocs = -1; /* -1: not counting */
+
+#if defined(__SANITIZE_ADDRESS__)
+#define HL_COUNT_ALLOCS 0
+#else
+#define HL_COUNT_ALLOCS 1
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t size);
+
+static void count_alloc(void)
+{
+	long n = allocs;
+
+	if (n >= 0)
+		allocs = n + 1;
+}
+
+void *malloc(size_t size)
+{
+	count_alloc();
+	return __libc_malloc(size);
+}
+
+void *calloc(size_t n, size_t size)
+{
+	count_alloc();
+	return __libc_calloc(n, size);
+}
+
+void *realloc(void *p, size_t size)
+{
+	count_alloc();
+	return __libc_realloc(p, size);
+}
+#endif
+
 static const char *sim_chip(void)
 {
 	const char *chip = getenv("HL_GPIO_CHIP");
@@ -301,6 +343,47 @@ static void gpio_trigger_both_once_per_edge(void **state)
 	trigger_sequence("both", IN2, "5", 1, 1);
 }
 
+/* The render thread's call and the event loop's read allocate nothing. */
+static void gpio_strobe_and_trigger_read_do_not_allocate(void **state)
+{
+	const char *chip = sim_chip();
+	struct hl_gpio_error err;
+	struct hl_gpio *g;
+	unsigned n = 0;
+	struct hl_gpio *g2 = NULL;
+	long counted;
+	int r1 = 0, r2;
+	(void)state;
+
+	if (!HL_COUNT_ALLOCS)
+		skip();
+	sim_pull(IN0, "pull-down");
+	assert_int_equal(hl_gpio_new(chip, "hl-strobe", "hl-in0", "rising", "", &g, &err), 0);
+	sim_pull(IN0, "pull-up");
+	struct pollfd p = { .fd = hl_gpio_trigger_fd(g), .events = POLLIN };
+	assert_int_equal(poll(&p, 1, 20000), 1);
+	allocs = 0;
+	for (int i = 0; i < 100 && r1 == 0; i++)
+		r1 = hl_gpio_strobe(g);
+	r2 = hl_gpio_read_trigger(g, &n);
+	counted = allocs;
+	allocs = -1;
+	assert_int_equal(r1, 0);
+	assert_int_equal(r2, 0);
+	assert_int_equal(n, 1);
+	assert_int_equal(counted, 0);
+	/* The counter works: a new object allocates. */
+	allocs = 0;
+	r1 = hl_gpio_new(chip, "hl-fault", "", "rising", "", &g2, &err);
+	counted = allocs;
+	allocs = -1;
+	assert_int_equal(r1, 0);
+	assert_true(counted > 0);
+	hl_gpio_free(g2);
+	hl_gpio_free(g);
+	sim_pull(IN0, "pull-down");
+}
+
 /* Strobe, trigger and ECU-enable together, as hdlampd requests them. */
 static void gpio_all_three_lines_at_once(void **state)
 {
@@ -345,6 +428,7 @@ int main(void)
 		cmocka_unit_test(gpio_trigger_rising_once_per_edge),
 		cmocka_unit_test(gpio_trigger_falling_once_per_edge),
 		cmocka_unit_test(gpio_trigger_both_once_per_edge),
+		cmocka_unit_test(gpio_strobe_and_trigger_read_do_not_allocate),
 		cmocka_unit_test(gpio_all_three_lines_at_once),
 	};
 
