@@ -20,7 +20,7 @@
 
 struct keyset {
 	int n;
-	char key[MAX_KEYS][96]; /* "section.name" */
+	char key[MAX_KEYS][136]; /* "section.name" */
 };
 
 /* The "section.name" of every "name = value" line of an INI text. */

@@ -36,11 +36,20 @@ static int sentinel;
 /*
  * Counting allocations on the hot paths: this executable's malloc, calloc and realloc take
  * precedence over libc's for every caller, libgpiod included, and count while asked to.
- * (Not under AddressSanitizer, which brings its own.)
+ * (Not under AddressSanitizer or ThreadSanitizer, which bring their own.)
  */
 static _Atomic long allocs = -1; /* -1: not counting */
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define HL_SANITIZER 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define HL_SANITIZER 1
+#endif
+
+#if defined(HL_SANITIZER)
 #define HL_COUNT_ALLOCS 0
 #else
 #define HL_COUNT_ALLOCS 1

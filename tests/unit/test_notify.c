@@ -131,7 +131,7 @@ static void notify_status_is_cut_at_256_bytes(void **state)
 static void notify_abstract_socket(void **state)
 {
 	struct sockaddr_un addr = { .sun_family = AF_UNIX };
-	char name[64], buf[64];
+	char name[64], buf[80];
 	int fd;
 	(void)state;
 
