@@ -318,6 +318,7 @@ static struct gpiod_line_settings *settings(enum gpiod_line_direction dir, enum 
 	return s;
 }
 
+/* The trigger first: if anything fails, ECU-enable has not been driven at all. */
 static int request_lines(struct hl_gpio *g, enum hl_gpio_edge edge, struct hl_gpio_error *err)
 {
 	static const enum gpiod_line_edge kernel_edge[] = {
@@ -329,6 +330,21 @@ static int request_lines(struct hl_gpio *g, enum hl_gpio_edge edge, struct hl_gp
 	unsigned offsets[2];
 	size_t n = 0;
 	int r = 0;
+
+	if (g->trigger >= 0) {
+		offsets[0] = (unsigned)g->trigger;
+		s[0] = settings(GPIOD_LINE_DIRECTION_INPUT, GPIOD_LINE_VALUE_INACTIVE,
+				kernel_edge[edge]);
+		g->events = gpiod_edge_event_buffer_new(EVENT_BATCH);
+		if (!s[0] || !g->events)
+			r = fail(err, -ENOMEM, "gpio: out of memory");
+		else
+			r = request(g, offsets, s, 1, "gpio.trigger", &g->in, err);
+		gpiod_line_settings_free(s[0]);
+		s[0] = NULL;
+		if (r < 0)
+			return r;
+	}
 
 	if (g->strobe >= 0) {
 		offsets[n] = (unsigned)g->strobe;
@@ -351,17 +367,6 @@ static int request_lines(struct hl_gpio *g, enum hl_gpio_edge edge, struct hl_gp
 			    &g->out, err);
 	for (size_t i = 0; i < n; i++)
 		gpiod_line_settings_free(s[i]);
-	if (r < 0 || g->trigger < 0)
-		return r;
-
-	offsets[0] = (unsigned)g->trigger;
-	s[0] = settings(GPIOD_LINE_DIRECTION_INPUT, GPIOD_LINE_VALUE_INACTIVE, kernel_edge[edge]);
-	g->events = gpiod_edge_event_buffer_new(EVENT_BATCH);
-	if (!s[0] || !g->events)
-		r = fail(err, -ENOMEM, "gpio: out of memory");
-	else
-		r = request(g, offsets, s, 1, "gpio.trigger", &g->in, err);
-	gpiod_line_settings_free(s[0]);
 	return r;
 }
 

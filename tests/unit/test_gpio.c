@@ -288,6 +288,18 @@ static void gpio_ecu_enable_held_then_released(void **state)
 	assert_null(g2);
 	hl_gpio_free(g);
 	assert_int_equal(sim_value(READY), 0);
+
+	/* A start that fails on the trigger leaves ECU-enable alone and released. */
+	assert_int_equal(hl_gpio_new(chip, "", "hl-in0", "rising", "", &g, &err), 0);
+	assert_int_equal(hl_gpio_new(chip, "", "hl-in0", "rising", "hl-ready", &g2, &err), -EBUSY);
+	assert_non_null(strstr(err.msg, "gpio.trigger: chip '"));
+	assert_null(g2);
+	assert_int_equal(sim_value(READY), 0);
+	assert_int_equal(hl_gpio_new(chip, "", "", "rising", "hl-ready", &g2, &err), 0);
+	assert_int_equal(sim_value(READY), 1);
+	hl_gpio_free(g2);
+	hl_gpio_free(g);
+	assert_int_equal(sim_value(READY), 0);
 }
 
 /* Pulls the trigger line through a sequence and checks what each pull reads. */
