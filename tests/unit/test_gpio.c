@@ -11,6 +11,7 @@
  */
 #include <errno.h>
 #include <poll.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -405,6 +406,59 @@ static void gpio_strobe_and_trigger_read_do_not_allocate(void **state)
 	sim_pull(IN0, "pull-down");
 }
 
+#define THREAD_STROBES 2000
+
+static void *render_thread(void *arg)
+{
+	struct hl_gpio *g = arg;
+	long failed = 0;
+
+	for (int i = 0; i < THREAD_STROBES; i++)
+		failed += hl_gpio_strobe(g) != 0;
+	return (void *)failed;
+}
+
+/*
+ * As in hdlampd: one thread strobes while another reads trigger edges and a third (here the
+ * same) reads the counters. Run under ThreadSanitizer too (README).
+ */
+static void gpio_strobe_and_trigger_from_two_threads(void **state)
+{
+	const char *chip = sim_chip();
+	struct hl_gpio_counts c;
+	struct hl_gpio_error err;
+	struct hl_gpio *g;
+	pthread_t t;
+	void *failed;
+	unsigned n, edges = 0;
+	(void)state;
+
+	sim_pull(IN1, "pull-down");
+	assert_int_equal(hl_gpio_new(chip, "hl-strobe", "hl-in1", "both", "", &g, &err), 0);
+	assert_int_equal(pthread_create(&t, NULL, render_thread, g), 0);
+	for (int i = 0; i < 4; i++) {
+		struct pollfd p = { .fd = hl_gpio_trigger_fd(g), .events = POLLIN };
+
+		sim_pull(IN1, i % 2 ? "pull-down" : "pull-up");
+		assert_int_equal(poll(&p, 1, 20000), 1);
+		assert_int_equal(hl_gpio_read_trigger(g, &n), 0);
+		edges += n;
+		hl_gpio_counts(g, &c);
+		assert_true(c.strobe_toggles <= THREAD_STROBES);
+	}
+	assert_int_equal(pthread_join(t, &failed), 0);
+	assert_null(failed);
+	hl_gpio_counts(g, &c);
+	assert_int_equal(edges, 4);
+	assert_int_equal(c.trigger_rising, 2);
+	assert_int_equal(c.trigger_falling, 2);
+	assert_int_equal(c.strobe_toggles, THREAD_STROBES);
+	assert_int_equal(hl_gpio_strobe_level(g), 0); /* an even number of toggles */
+	assert_int_equal(sim_value(STROBE), 0);
+	hl_gpio_free(g);
+	sim_pull(IN1, "pull-down");
+}
+
 /* Strobe, trigger and ECU-enable together, as hdlampd requests them. */
 static void gpio_all_three_lines_at_once(void **state)
 {
@@ -450,6 +504,7 @@ int main(void)
 		cmocka_unit_test(gpio_trigger_falling_once_per_edge),
 		cmocka_unit_test(gpio_trigger_both_once_per_edge),
 		cmocka_unit_test(gpio_strobe_and_trigger_read_do_not_allocate),
+		cmocka_unit_test(gpio_strobe_and_trigger_from_two_threads),
 		cmocka_unit_test(gpio_all_three_lines_at_once),
 	};
 
