@@ -17,6 +17,8 @@
 #include "daemon/can_input.h"
 #include "daemon/capture.h"
 #include "daemon/frame_pool.h"
+#include "daemon/gpio.h"
+#include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/stream.h"
 #include "tools/preset.h"
@@ -35,6 +37,9 @@ struct live {
 	struct hl_pipeline *pipe;
 	struct hl_stream *stream;
 	struct hl_can_input *in;
+	struct hl_gpio *gpio;
+	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
+	int64_t watchdog_last_ns; /* render thread's */
 	pthread_mutex_t capture_lock;
 	uint64_t captures, capture_errors, reloads;
 };
@@ -59,6 +64,20 @@ static void on_published(void *ud, const struct hl_frame *f)
 	(void)f;
 	if (lv->stream)
 		hl_stream_wake(lv->stream);
+	if (lv->gpio)
+		hl_gpio_strobe(lv->gpio); /* counted in the gpio's counters, errors too */
+}
+
+/* Render thread hook, every loop turn: the watchdog proves the render loop runs. */
+static void on_alive(void *ud)
+{
+	struct live *lv = ud;
+	const int64_t now = hl_monotonic_ns();
+
+	if (lv->watchdog_us && now - lv->watchdog_last_ns >= (int64_t)lv->watchdog_us * 1000) {
+		hl_notify_watchdog();
+		lv->watchdog_last_ns = now;
+	}
 }
 
 /* The fail-safe preset's raw values per lamp, or NULL when the mode is not a preset. */
@@ -141,13 +160,23 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
 		",\"dropped\":%" PRIu64 "},\"stream\":{\"clients\":%" PRIu64
 		",\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64 "},\"captures\":%" PRIu64
-		",\"reloads\":%" PRIu64 "}",
+		",\"reloads\":%" PRIu64,
 		lv->cfg.failsafe == HL_FAILSAFE_HOLD ? "hold" :
 		lv->cfg.failsafe == HL_FAILSAFE_DARK ? "dark" :
 						       "preset",
 		pc.frames + pc.not_published, fc.published, pc.not_published, pc.render_ms_last,
 		pc.render_ms_max, rc.pushed, rc.consumed, rc.superseded, rc.dropped, sc.clients,
 		sc.frames_sent, sc.frames_skipped, lv->captures, lv->reloads);
+	if (lv->gpio) {
+		struct hl_gpio_counts gc;
+
+		hl_gpio_counts(lv->gpio, &gc);
+		fprintf(f,
+			",\"gpio\":{\"strobe_toggles\":%" PRIu64 ",\"strobe_errors\":%" PRIu64
+			",\"trigger_edges\":%" PRIu64 ",\"trigger_lost\":%" PRIu64 "}",
+			gc.strobe_toggles, gc.strobe_errors, gc.trigger_edges, gc.trigger_lost);
+	}
+	fputc('}', f);
 	n = ftell(f);
 	fclose(f);
 	return n >= (long)size ? -ENOSPC : (int)n;
@@ -384,7 +413,9 @@ static int setup(struct live *lv)
 			log_msg("'%s': %s", icfg.iface ? icfg.iface : icfg.replay, strerror(-rc));
 	}
 	if (rc == 0) {
-		struct hl_pipeline_hooks hooks = { .userdata = lv, .published = on_published };
+		struct hl_pipeline_hooks hooks = { .userdata = lv,
+						   .published = on_published,
+						   .alive = on_alive };
 
 		rc = hl_pipeline_new(&lv->cfg, lv->lids, n, (const uint8_t *const *)dims, lv->ring,
 				     hl_can_input_wake_fd(lv->in), lv->pool, &hooks, &lv->pipe);
@@ -395,6 +426,19 @@ static int setup(struct live *lv)
 	free(dims[1]);
 	if (rc < 0)
 		return rc;
+	if (lv->cfg.gpio_chip[0]) {
+		struct hl_gpio_error gerr;
+
+		rc = hl_gpio_new(lv->cfg.gpio_chip, lv->cfg.gpio_strobe, lv->cfg.gpio_trigger,
+				 lv->cfg.gpio_trigger_edge, lv->cfg.gpio_ecu_enable, &lv->gpio,
+				 &gerr);
+		if (rc < 0) {
+			log_msg("gpio: %s", gerr.msg);
+			return rc;
+		}
+	}
+	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
+		lv->watchdog_us = 0;
 	rc = hl_pipeline_start(lv->pipe, err, sizeof(err));
 	if (rc < 0) {
 		log_msg("%s", err);
@@ -429,6 +473,7 @@ static void teardown(struct live *lv)
 		hl_frame_pool_close(lv->pool);
 	hl_stream_free(lv->stream);
 	hl_pipeline_free(lv->pipe);
+	hl_gpio_free(lv->gpio);
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);
 	hl_ring_free(lv->ring);
@@ -437,6 +482,24 @@ static void teardown(struct live *lv)
 	hl_assembler_free(lv->a);
 	hl_dbc_free(lv->db);
 	pthread_mutex_destroy(&lv->capture_lock);
+}
+
+/* STATUS= for systemctl status: per lamp its cycles and state, the frames. */
+static void notify_status(struct live *lv, const struct hl_input_status *st)
+{
+	struct hl_pipeline_counts pc;
+	char line[256];
+	int n = 0;
+
+	hl_pipeline_counts(lv->pipe, &pc);
+	for (int l = 0; l < lv->n_lamps && n < (int)sizeof(line); l++)
+		n += snprintf(line + n, sizeof(line) - n, "%s: %" PRIu64 " cycles%s; ",
+			      hl_assembler_lamp_name(lv->a, l), st->lamps[l].cycles,
+			      st->stale[l] ? " (stale, fail-safe)" : "");
+	if (n < (int)sizeof(line))
+		snprintf(line + n, sizeof(line) - n, "%" PRIu64 " frames, bus %s", pc.frames,
+			 st->link_up ? st->bus : "down");
+	hl_notify_status("%s", line);
 }
 
 /* Logs link and stale changes (the event loop's view, once per wake). */
@@ -461,6 +524,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 {
 	struct live lv = { .cfg = *cfg, .args = args };
 	struct hl_input_status prev = { .link_up = false };
+	int64_t status_ns = 0;
+	bool ready = false;
 	sigset_t mask;
 	int sfd, rc, code = 1;
 	char buf[1 << 16];
@@ -477,20 +542,44 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	sfd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
 	rc = sfd < 0 ? -errno : setup(&lv);
 	while (rc == 0) {
-		struct pollfd pfd = { .fd = sfd, .events = POLLIN };
+		struct pollfd pfd[2] = { { .fd = sfd, .events = POLLIN },
+					 { .fd = lv.gpio ? hl_gpio_trigger_fd(lv.gpio) : -1,
+					   .events = POLLIN } };
 		struct signalfd_siginfo si;
+		int64_t now;
 
 		log_changes(&lv, &prev);
+		now = hl_monotonic_ns();
+		/* READY once the lamps are loaded, the renderer is up and the bus is open */
+		if (!ready && prev.link_up) {
+			hl_notify_ready("running");
+			ready = true;
+		}
+		if (now - status_ns >= 1000000000) {
+			status_ns = now;
+			notify_status(&lv, &prev);
+		}
 		if (prev.done) {
 			/* a finite replay ended: let the last frame out, then stop */
 			hl_sleep_until(hl_monotonic_ns() + 200000000, NULL);
 			code = 0;
 			break;
 		}
-		if (poll(&pfd, 1, 200) <= 0 || read(sfd, &si, sizeof(si)) != sizeof(si))
+		if (poll(pfd, lv.gpio && pfd[1].fd >= 0 ? 2 : 1, 200) <= 0)
+			continue;
+		if (pfd[1].revents & POLLIN) {
+			unsigned edges = 0;
+			char path[1024];
+
+			if (hl_gpio_read_trigger(lv.gpio, &edges) == 0 && edges > 0)
+				hl_live_capture(&lv, path, sizeof(path));
+		}
+		if (!(pfd[0].revents & POLLIN) || read(sfd, &si, sizeof(si)) != sizeof(si))
 			continue;
 		if (si.ssi_signo == SIGHUP) {
+			hl_notify_reloading();
 			reload(&lv);
+			hl_notify_ready("running (reloaded)");
 		} else if (si.ssi_signo == SIGUSR1) {
 			char path[1024];
 
@@ -501,8 +590,16 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			break;
 		}
 	}
-	if (rc == 0 && hl_live_status_json(&lv, buf, sizeof(buf)) > 0)
-		printf("%s\n", buf);
+	hl_notify_stopping();
+	if (rc == 0) {
+		/* quiesce, then report: the counters no longer move */
+		hl_can_input_stop(lv.in);
+		hl_pipeline_stop(lv.pipe);
+		if (lv.stream)
+			hl_stream_stop(lv.stream);
+		if (hl_live_status_json(&lv, buf, sizeof(buf)) > 0)
+			printf("%s\n", buf);
+	}
 	teardown(&lv);
 	if (sfd >= 0)
 		close(sfd);
