@@ -132,6 +132,11 @@ static void format_double(double v, char *out, size_t size)
 		snprintf(out, size, v > 0 ? "+Inf" : "-Inf");
 		return;
 	}
+	/* Whole numbers as such ("10", not "1e+01"): bucket bounds read better. */
+	if (v == floor(v) && fabs(v) < 1e15) {
+		snprintf(out, size, "%.0f", v);
+		return;
+	}
 	for (int prec = 1; prec <= 17; prec++) {
 		snprintf(out, size, "%.*g", prec, v);
 		if (strtod(out, NULL) == v)
