@@ -94,6 +94,13 @@ async function poll(page, fn, ok, timeoutMs) {
 		result.lampRows = await page.evaluate(
 			() => document.querySelectorAll('#lamps tbody tr').length);
 
+		// The capture button: the page shows the path written, or why not (403 when off).
+		await page.click('#capture');
+		await page.waitForFunction(
+			() => document.getElementById('capture-result').textContent !== '', null,
+			{ timeout: 10000 });
+		result.capture = await page.textContent('#capture-result');
+
 		// Let the stream show a fresh frame again before the picture is taken.
 		result.imageAtScreenshot = await poll(page, imageStats, (s) => s && s.mean > 10, 5000);
 		await page.screenshot({ path: screenshot });

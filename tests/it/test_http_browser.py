@@ -136,6 +136,12 @@ def test_http_live_page_in_chromium(http_url, tmp_path):
     assert seen["image"]["mean"] > 10 and seen["image"]["stddev"] > 5
     assert seen["changed"], "no counter changed"
     assert seen["pageErrors"] == []
+    if os.environ.get("HL_HTTP_URL"):
+        assert seen["capture"].startswith(("written: ", "HTTP 403: captures are disabled"))
+    else:
+        assert seen["capture"].startswith("written: ")
+        with open(seen["capture"][len("written: "):], "rb") as f:
+            assert f.read(4) == b"\x76\x2f\x31\x01"  # an EXR file
     # The screenshot, checked independently of the page's own reading.
     w, h, mean, lit, levels = png_stats(shot)
     assert (w, h) == (1280, 800)
