@@ -599,6 +599,70 @@ static void http_frame_png_is_the_newest_frame_losslessly(void **state)
 	stop(fx);
 }
 
+/* PNG bytes of a decoded 8-bit RGB image into rgb (w * h * 3). */
+static void decode_png(const struct response *r, uint8_t *rgb, int w, int h)
+{
+	struct png_src src = { r->body, r->len, 0 };
+	png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+	png_infop info = png_create_info_struct(png);
+
+	assert_int_equal(setjmp(png_jmpbuf(png)), 0);
+	png_set_read_fn(png, &src, png_read_mem);
+	png_read_info(png, info);
+	assert_int_equal(png_get_image_width(png, info), w);
+	assert_int_equal(png_get_image_height(png, info), h);
+	for (int y = 0; y < h; y++)
+		png_read_row(png, rgb + (size_t)y * w * 3, NULL);
+	png_read_end(png, NULL);
+	png_destroy_read_struct(&png, &info, NULL);
+}
+
+static void http_hdr_frames_are_tone_mapped(void **state)
+{
+	/* L in cd/m^2 -> x = L / pi -> x / (1 + x) -> sRGB -> 8 bit (values worked out by hand) */
+	static const float lum[4] = { 0.0f, 1.0f, 1e4f, 0.05f };
+	static const uint8_t want[4] = { 0, 135, 255, 34 };
+	const struct hl_frame_shape shape = { .width = 4,
+					      .height = 2,
+					      .format = HL_PIXEL_RGBA16F,
+					      .n_lamps = 1,
+					      .n_sources = 1,
+					      .dist_width = 1,
+					      .dist_height = 1 };
+	struct hl_http_sources src = { 0 };
+	struct hl_frame_pool *pool;
+	struct hl_http *http;
+	struct hl_frame *f;
+	struct response r;
+	uint8_t rgb[4 * 2 * 3];
+
+	(void)state;
+	assert_int_equal(hl_frame_pool_new(2, &shape, &pool), 0);
+	src.pool = pool;
+	assert_int_equal(hl_http_new("127.0.0.1:0", false, &src, &http), 0);
+	f = hl_frame_pool_acquire(pool);
+	assert_non_null(f);
+	for (int i = 0; i < 8; i++) {
+		uint16_t *px = (uint16_t *)f->pixels + 4 * i;
+
+		for (int c = 0; c < 3; c++)
+			px[c] = hl_half_from_float(lum[i % 4]);
+		px[3] = hl_half_from_float(1.0f);
+	}
+	hl_frame_pool_publish(pool, f);
+	check(hl_http_port(http), "GET", "/frame.png", 200, "image/png", &r);
+	decode_png(&r, rgb, 4, 2);
+	free(r.body);
+	for (int i = 0; i < 8; i++)
+		for (int c = 0; c < 3; c++)
+			assert_int_equal(rgb[3 * i + c], want[i % 4]);
+	/* Status and metrics without callbacks: not there. */
+	check(hl_http_port(http), "GET", "/status", 404, "text/plain; charset=utf-8", &r);
+	free(r.body);
+	hl_http_free(http);
+	hl_frame_pool_free(pool);
+}
+
 static void http_frame_exr_is_the_lux_image(void **state)
 {
 	struct fixture *fx = start(false);
@@ -848,6 +912,7 @@ int main(void)
 		cmocka_unit_test(http_new_rejects_bad_input_and_a_busy_port),
 		cmocka_unit_test(http_routes_answer_with_status_and_type),
 		cmocka_unit_test(http_frame_png_is_the_newest_frame_losslessly),
+		cmocka_unit_test(http_hdr_frames_are_tone_mapped),
 		cmocka_unit_test(http_frame_exr_is_the_lux_image),
 		cmocka_unit_test(http_mjpeg_stream_follows_the_publisher),
 		cmocka_unit_test(http_stalled_stream_client_delays_nobody),
