@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <microhttpd.h>
 #include <turbojpeg.h>
@@ -407,9 +408,17 @@ static int next_part(struct stream *s)
 	int rc;
 
 	while (!f) {
+		struct timespec t0, t1;
+
 		if (atomic_load(&h->stopping))
 			return -ESHUTDOWN;
+		clock_gettime(CLOCK_MONOTONIC, &t0);
 		f = hl_frame_pool_get(h->src.pool, s->last_seq, STREAM_WAIT_MS);
+		clock_gettime(CLOCK_MONOTONIC, &t1);
+		/* Nothing, long before the timeout: the pool was closed, no frame will come. */
+		if (!f && (t1.tv_sec - t0.tv_sec) * 1000 + (t1.tv_nsec - t0.tv_nsec) / 1000000 <
+				  STREAM_WAIT_MS / 2)
+			return -ESHUTDOWN;
 	}
 	rgb = frame_rgb(f, s->rgb, &stride);
 	s->jpeg_len = s->jpeg_cap;

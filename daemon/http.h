@@ -19,7 +19,8 @@
  * Each connection has its own thread. A stream client gets the newest frame whenever it has
  * taken the previous one: a slow client skips frames (counted), holds a frame only while it
  * is encoded, and keeps one preallocated JPEG buffer; it never delays the renderer or another
- * client. A client that takes nothing for HL_HTTP_IDLE_TIMEOUT_S is disconnected.
+ * client. A client that takes nothing for HL_HTTP_IDLE_TIMEOUT_S is disconnected; closing the
+ * pool (hl_frame_pool_close) ends every stream.
  *
  * Thread-safety: hl_http_new/hl_http_free from one thread; hl_http_counts and hl_http_port
  * from any. The source callbacks are called from the server's threads, several at once.

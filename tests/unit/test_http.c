@@ -905,6 +905,39 @@ static void http_free_ends_streams_promptly(void **state)
 	stop(fx);
 }
 
+static void http_closed_pool_ends_streams(void **state)
+{
+	struct fixture *fx = start(false);
+	static uint8_t jpeg[1 << 18];
+	struct hl_http_counts c;
+	struct reader *rd;
+	char tail[4096];
+	size_t len;
+	double t0;
+	ssize_t k;
+
+	(void)state;
+	publish(fx->pool);
+	rd = open_stream(fx->port, 0, true);
+	assert_int_equal(read_part(rd, jpeg, sizeof(jpeg), &len), 1);
+	/* The daemon shuts down its renderer first: the stream ends, the server stays up. */
+	t0 = now_s();
+	hl_frame_pool_close(fx->pool);
+	while ((k = recv(rd->fd, tail, sizeof(tail), 0)) > 0)
+		;
+	assert_int_equal(k, 0);
+	assert_true(now_s() - t0 < 1.0);
+	close_stream(rd);
+	for (int i = 0; i < 50; i++) {
+		hl_http_counts(fx->http, &c);
+		if (c.mjpeg_clients == 0)
+			break;
+		sleep_ms(20);
+	}
+	assert_int_equal(c.mjpeg_clients, 0);
+	stop(fx);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -918,6 +951,7 @@ int main(void)
 		cmocka_unit_test(http_stalled_stream_client_delays_nobody),
 		cmocka_unit_test(http_capture_only_when_allowed),
 		cmocka_unit_test(http_free_ends_streams_promptly),
+		cmocka_unit_test(http_closed_pool_ends_streams),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
