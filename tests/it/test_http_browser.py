@@ -73,18 +73,19 @@ def png_stats(path):
 
 
 def test_http_frames_change_with_the_beam(http_url, tmp_path):
-    """/frame.png is a real, lit frame, and it changes over time (low/high beam)."""
+    """/frame.png is a real, lit frame, and it changes within a few seconds (low/high beam)."""
     seen = []
-    for i in range(2):
+    until = time.monotonic() + 6
+    while time.monotonic() < until and len(set(seen)) < 2:
         status, ctype, body = get(http_url + "frame.png")
         assert (status, ctype) == (200, "image/png")
-        path = tmp_path / f"frame{i}.png"
+        path = tmp_path / f"frame{len(seen)}.png"
         path.write_bytes(body)
         w, h, mean, lit, levels = png_stats(str(path))
         assert mean > 5 and lit > 0.05 and levels > 50, (mean, lit, levels)
         seen.append(body)
-        time.sleep(1.3)
-    assert seen[0] != seen[1]
+        time.sleep(0.4)
+    assert len(set(seen)) == 2, f"{len(seen)} frames in 6 s, all the same"
     status, ctype, body = get(http_url + "status")
     assert (status, ctype) == (200, "application/json")
     json.loads(body)
