@@ -9,8 +9,15 @@
 
 #include <openexr.h>
 
+/* What a context's user data points to: the last message, and the memory sink if any. */
 struct exr_msg {
 	char text[256];
+	struct mem_sink *mem;
+};
+
+struct mem_sink {
+	uint8_t *data;
+	size_t size, cap;
 };
 
 static void keep_message(exr_const_context_t ctxt, exr_result_t code, const char *msg)
@@ -92,15 +99,18 @@ static exr_result_t set_attributes(exr_context_t ctxt, int part,
 	exr_result_t rv;
 	float f[16];
 
-	hl_camera_world_to_camera(info->camera, f);
-	memcpy(m.m, f, sizeof(m.m));
-	rv = exr_attr_set_m44f(ctxt, part, "worldToCamera", &m);
-	hl_camera_world_to_ndc(info->camera, f);
-	memcpy(m.m, f, sizeof(m.m));
-	if (rv == EXR_ERR_SUCCESS)
-		rv = exr_attr_set_m44f(ctxt, part, "worldToNDC", &m);
-	if (rv == EXR_ERR_SUCCESS)
-		rv = exr_attr_set_string(ctxt, part, "hdlamp:unit", unit);
+	rv = exr_attr_set_string(ctxt, part, "hdlamp:unit", unit);
+	if (!info)
+		return rv;
+	if (info->camera && rv == EXR_ERR_SUCCESS) {
+		hl_camera_world_to_camera(info->camera, f);
+		memcpy(m.m, f, sizeof(m.m));
+		rv = exr_attr_set_m44f(ctxt, part, "worldToCamera", &m);
+		hl_camera_world_to_ndc(info->camera, f);
+		memcpy(m.m, f, sizeof(m.m));
+		if (rv == EXR_ERR_SUCCESS)
+			rv = exr_attr_set_m44f(ctxt, part, "worldToNDC", &m);
+	}
 	for (int k = 0; k < info->n_lamps && rv == EXR_ERR_SUCCESS; k++) {
 		const struct hl_lamp_pose *p = &info->lamps[k];
 		exr_attr_v3f_t pos = { .x = (float)p->pos_m[0],
@@ -168,21 +178,54 @@ static exr_result_t write_chunks(exr_context_t ctxt, int width, int height,
 	return rv;
 }
 
+/* The write stream of a memory sink: the library writes at offsets, mostly appending. */
+static int64_t mem_write(exr_const_context_t ctxt, void *userdata, const void *buffer, uint64_t sz,
+			 uint64_t offset, exr_stream_error_func_ptr_t error_cb)
+{
+	struct mem_sink *m = ((struct exr_msg *)userdata)->mem;
+	const size_t end = (size_t)offset + (size_t)sz;
+
+	if (end > m->cap) {
+		size_t cap = m->cap ? m->cap : 65536;
+		uint8_t *d;
+
+		while (cap < end)
+			cap *= 2;
+		d = realloc(m->data, cap);
+		if (!d) {
+			error_cb(ctxt, EXR_ERR_OUT_OF_MEMORY, "out of memory");
+			return -1;
+		}
+		m->data = d;
+		m->cap = cap;
+	}
+	if (offset > m->size)
+		memset(m->data + m->size, 0, (size_t)offset - m->size);
+	memcpy(m->data + offset, buffer, (size_t)sz);
+	if (end > m->size)
+		m->size = end;
+	return (int64_t)sz;
+}
+
+/* To path, or into mem when it is not NULL (path then only names it in messages). */
 static int write_file(const char *path, int width, int height, const struct channel *ch, int n_ch,
 		      const struct hl_frame_exr_info *info, const char *unit,
-		      struct hl_lid_error *err)
+		      struct hl_lid_error *err, struct mem_sink *mem)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct exr_msg msg = { "" };
+	struct exr_msg msg = { "", mem };
 	exr_context_t ctxt;
 	exr_result_t rv;
 	int part, rc = 0;
 
-	if (width < 1 || height < 1 || info->n_lamps < 0 || info->n_lamps > 2)
+	if (width < 1 || height < 1 || (info && (info->n_lamps < 0 || info->n_lamps > 2)))
 		return fail(err, -EINVAL, path, "bad image size or lamp count");
 	init.error_handler_fn = keep_message;
 	init.user_data = &msg;
-	rv = exr_start_write(&ctxt, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+	if (mem)
+		init.write_fn = mem_write;
+	rv = exr_start_write(&ctxt, path,
+			     mem ? EXR_WRITE_FILE_DIRECTLY : EXR_INTERMEDIATE_TEMP_FILE, &init);
 	if (rv != EXR_ERR_SUCCESS)
 		return fail(err, -EIO, path, "cannot create (%s)",
 			    msg.text[0] ? msg.text : exr_get_default_error_message(rv));
@@ -223,7 +266,7 @@ int hl_frame_exr_write_hdr(const char *path, int width, int height, const float 
 		half[i] = hl_half_from_float(rgba[i]);
 	for (int c = 0; c < 4; c++)
 		ch[c] = (struct channel){ names[c], EXR_PIXEL_HALF, half + c, 8 };
-	rc = write_file(path, width, height, ch, 4, info, "cd/m2", err);
+	rc = write_file(path, width, height, ch, 4, info, "cd/m2", err, NULL);
 	free(half);
 	return rc;
 }
@@ -233,5 +276,23 @@ int hl_frame_exr_write_lux(const char *path, int width, int height, const float 
 {
 	const struct channel ch = { "E", EXR_PIXEL_FLOAT, lux, 4 };
 
-	return write_file(path, width, height, &ch, 1, info, "lx", err);
+	return write_file(path, width, height, &ch, 1, info, "lx", err, NULL);
+}
+
+int hl_frame_exr_encode_lux(int width, int height, const float *lux,
+			    const struct hl_frame_exr_info *info, uint8_t **ret_data,
+			    size_t *ret_size, struct hl_lid_error *err)
+{
+	const struct channel ch = { "E", EXR_PIXEL_FLOAT, lux, 4 };
+	struct mem_sink mem = { 0 };
+	int rc;
+
+	rc = write_file("(memory)", width, height, &ch, 1, info, "lx", err, &mem);
+	if (rc < 0) {
+		free(mem.data);
+		return rc;
+	}
+	*ret_data = mem.data;
+	*ret_size = mem.size;
+	return 0;
 }
