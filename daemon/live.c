@@ -18,6 +18,7 @@
 #include "daemon/capture.h"
 #include "daemon/frame_pool.h"
 #include "daemon/gpio.h"
+#include "daemon/http.h"
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/stream.h"
@@ -38,6 +39,8 @@ struct live {
 	struct hl_stream *stream;
 	struct hl_can_input *in;
 	struct hl_gpio *gpio;
+	struct hl_http *http;
+	struct hl_frame_exr_info exr_info; /* camera and lamp poses for /frame.exr */
 	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
 	int64_t watchdog_last_ns; /* render thread's */
 	pthread_mutex_t capture_lock;
@@ -136,7 +139,7 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 	hl_ring_counts(lv->ring, &rc);
 	hl_frame_pool_counts(lv->pool, &fc);
 	fprintf(f,
-		"{\"renderer\":\"%s\",\"input\":{\"source\":\"%s\",\"link\":\"%s\",\"bus\":\"%s\"},\"lamps\":{",
+		"{\"renderer\":\"%s\",\"input\":{\"source\":\"%s\",\"link\":\"%s\",\"bus\":\"%s\"},\"lamps\":[",
 		hl_pipeline_describe(lv->pipe),
 		lv->cfg.interface[0] ? lv->cfg.interface : lv->cfg.replay,
 		st.link_up ? "up" : "down", st.bus);
@@ -144,7 +147,7 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 		const struct hl_lamp_counters *c = &st.lamps[l];
 
 		fprintf(f,
-			"%s\"%s\":{\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
+			"%s{\"name\":\"%s\",\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
 			",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
 			",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
 			",\"stale_events\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64 "}",
@@ -154,7 +157,7 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 			c->stale_events, pc.failsafe_frames[l]);
 	}
 	fprintf(f,
-		"},\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
+		"],\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
 		",\"published\":%" PRIu64 ",\"not_published\":%" PRIu64
 		",\"render_ms_last\":%.3f,\"render_ms_max\":%.3f},"
 		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
@@ -179,7 +182,7 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 	fputc('}', f);
 	n = ftell(f);
 	fclose(f);
-	return n >= (long)size ? -ENOSPC : (int)n;
+	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
 }
 
 int hl_live_metrics(struct live *lv, char *buf, size_t size)
@@ -259,7 +262,7 @@ int hl_live_metrics(struct live *lv, char *buf, size_t size)
 		pc.render_ms_sum, cum);
 	n = ftell(f);
 	fclose(f);
-	return n >= (long)size ? -ENOSPC : (int)n;
+	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
 }
 
 /* Writes a capture of the newest frame (any thread). */
@@ -297,6 +300,22 @@ int hl_live_capture(struct live *lv, char *path, size_t size)
 	else
 		log_msg("capture written to '%s'", path);
 	return rc;
+}
+
+/* HTTP callbacks (the server's threads; everything they read is locked or atomic). */
+static int http_status(void *ud, char *buf, size_t size)
+{
+	return hl_live_status_json(ud, buf, size);
+}
+
+static int http_metrics(void *ud, char *buf, size_t size)
+{
+	return hl_live_metrics(ud, buf, size);
+}
+
+static int http_capture(void *ud, char *path, size_t size)
+{
+	return hl_live_capture(ud, path, size);
 }
 
 /* SIGHUP: re-read the configuration; the CAN thread runs on, so no cycle is lost. */
@@ -459,6 +478,29 @@ static int setup(struct live *lv)
 			lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
 			hl_stream_tcp_port(lv->stream));
 	}
+	if (lv->cfg.http_listen[0]) {
+		struct hl_http_sources src = {
+			.pool = lv->pool,
+			.exr_info = &lv->exr_info,
+			.userdata = lv,
+			.status_json = http_status,
+			.metrics = http_metrics,
+			.capture = http_capture,
+		};
+
+		lv->exr_info.camera = hl_pipeline_camera(lv->pipe);
+		lv->exr_info.n_lamps = lv->n_lamps;
+		for (int l = 0; l < lv->n_lamps; l++)
+			hl_lamp_pose_default(l, &lv->exr_info.lamps[l]);
+		rc = hl_http_new(lv->cfg.http_listen, lv->cfg.http_capture, &src, &lv->http);
+		if (rc < 0) {
+			log_msg("http.listen '%s': %s", lv->cfg.http_listen, strerror(-rc));
+			return rc;
+		}
+		log_msg("live view on http://%s/ (port %u)%s", lv->cfg.http_listen,
+			hl_http_port(lv->http),
+			lv->cfg.http_capture ? ", POST /capture allowed" : "");
+	}
 	rc = hl_can_input_start(lv->in);
 	if (rc < 0)
 		log_msg("cannot start the CAN thread: %s", strerror(-rc));
@@ -471,6 +513,7 @@ static void teardown(struct live *lv)
 		hl_can_input_stop(lv->in);
 	if (lv->pool)
 		hl_frame_pool_close(lv->pool);
+	hl_http_free(lv->http);
 	hl_stream_free(lv->stream);
 	hl_pipeline_free(lv->pipe);
 	hl_gpio_free(lv->gpio);
@@ -594,6 +637,9 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	if (rc == 0) {
 		/* quiesce, then report: the counters no longer move */
 		hl_can_input_stop(lv.in);
+		hl_frame_pool_close(lv.pool);
+		hl_http_free(lv.http);
+		lv.http = NULL;
 		hl_pipeline_stop(lv.pipe);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);

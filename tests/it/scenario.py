@@ -67,3 +67,8 @@ def check_against_expectation(cycles, summary, expect_cycles, expect_counters):
 def hdlampd(*args, **kw):
     return subprocess.run([HDLAMPD, *[str(a) for a in args]], capture_output=True, text=True,
                           **kw)
+
+
+def lamp_status(status, name):
+    """A lamp's entry in hdlampd's live status (a list of lamps, each with its name)."""
+    return next(l for l in status["lamps"] if l["name"] == name)

@@ -1,9 +1,8 @@
 """The HTTP live view in a real browser (Debian's chromium, headless, driven by playwright-core
 from npm) and over plain HTTP.
 
-The server under test is HL_HTTP_URL when set (e.g. a running hdlampd); otherwise the tests start
-hl-http-fixture (HL_HTTP_FIXTURE), a test fixture that serves frames of the real renderer: the
-road scene lit by the HD84 lamps, low and high beam alternating every second.
+The server under test is hdlampd replaying the drive scenario in a loop (low/high beam, the
+glare-free sweep, bend light, faults) on the road scene, or HL_HTTP_URL when set.
 """
 import json
 import os
@@ -30,26 +29,37 @@ def build_dir():
 
 @pytest.fixture(scope="module")
 def http_url(hd84, tmp_path_factory):
+    """hdlampd itself: the drive scenario replayed in a loop, the road scene, HTTP on a free
+    port with captures allowed (or HL_HTTP_URL, a server started elsewhere)."""
     url = os.environ.get("HL_HTTP_URL")
     if url:
         yield url.rstrip("/") + "/"
         return
-    fixture = os.environ.get("HL_HTTP_FIXTURE")
-    if not fixture or not os.access(fixture, os.X_OK):
-        pytest.fail("HL_HTTP_FIXTURE must name the built hl-http-fixture (run through ctest)")
-    captures = tmp_path_factory.mktemp("captures")
+    from scenario import HDLAMPD, dbc_path, generate
+    from proc import run
+
+    work = tmp_path_factory.mktemp("live")
+    log, _, _ = generate(os.environ["HDLAMP"], dbc_path("hd84.dbc"), str(work), phase=25)
     proc = subprocess.Popen(
-        [fixture, "--lamps", str(hd84), "--listen", "127.0.0.1:0", "--capture-dir", str(captures)],
+        [HDLAMPD, "--replay", log, "--loop", "--dbc", dbc_path("hd84.dbc"),
+         "--set", f"lamps.left={hd84}/hd84_left.lid.exr",
+         "--set", f"lamps.right={hd84}/hd84_right.lid.exr",
+         "--set", "render.size=640x360", "--set", "stream.tcp=",
+         "--set", "http.listen=127.0.0.1:0", "--set", "http.capture=true",
+         "--set", f"capture.dir={work}/captures"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    line = proc.stdout.readline()
-    if not line.startswith("listening on http://"):
-        proc.kill()
-        pytest.fail(f"hl-http-fixture did not start: {line!r} {proc.stderr.read()}")
+    port = None
+    while port is None:
+        line = proc.stderr.readline()
+        if not line:
+            pytest.fail(f"hdlampd did not start: {proc.stdout.read()}")
+        if "live view on http://" in line:
+            port = int(line.rsplit("(port ", 1)[1].split(")")[0])
     try:
-        yield line.split()[-1]
+        yield f"http://127.0.0.1:{port}/"
     finally:
-        proc.terminate()
-        assert proc.wait(timeout=5) == 0, proc.stderr.read()
+        proc.send_signal(2)
+        assert proc.wait(timeout=10) == 0
 
 
 def get(url, method="GET"):
@@ -78,6 +88,9 @@ def test_http_frames_change_with_the_beam(http_url, tmp_path):
     until = time.monotonic() + 6
     while time.monotonic() < until and len(set(seen)) < 2:
         status, ctype, body = get(http_url + "frame.png")
+        if status == 503 and not seen:  # nothing rendered yet: the first cycle is on its way
+            time.sleep(0.1)
+            continue
         assert (status, ctype) == (200, "image/png")
         path = tmp_path / f"frame{len(seen)}.png"
         path.write_bytes(body)
@@ -141,8 +154,10 @@ def test_http_live_page_in_chromium(http_url, tmp_path):
         assert seen["capture"].startswith(("written: ", "HTTP 403: captures are disabled"))
     else:
         assert seen["capture"].startswith("written: ")
-        with open(seen["capture"][len("written: "):], "rb") as f:
-            assert f.read(4) == b"\x76\x2f\x31\x01"  # an EXR file
+        written = seen["capture"][len("written: "):]  # the capture's directory
+        for name in ("hdr.exr", "lux.exr", "left.lid.exr", "right.lid.exr"):
+            with open(os.path.join(written, name), "rb") as f:
+                assert f.read(4) == b"\x76\x2f\x31\x01"  # an EXR file
     # The screenshot, checked independently of the page's own reading.
     w, h, mean, lit, levels = png_stats(shot)
     assert (w, h) == (1280, 800)

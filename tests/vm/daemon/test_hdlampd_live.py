@@ -11,7 +11,7 @@ import can
 
 from pngread import read_png
 from proc import run
-from scenario import HDLAMPD, dbc_path, generate
+from scenario import HDLAMPD, lamp_status, dbc_path, generate
 from streamclient import connect, read_frame
 
 SIZE = (64, 36)
@@ -61,7 +61,7 @@ def test_live_render_on_vcan0_frames_match_and_failsafe(hdlamp, tmp_path):
 
     for lamp in ("left", "right"):
         for key in ("cycles", "crc_errors", "incomplete", "lost_cycles"):
-            assert status["lamps"][lamp][key] == counters[lamp][key], (lamp, key)
+            assert lamp_status(status, lamp)[key] == counters[lamp][key], (lamp, key)
     hs = [h for h, _ in frames]
     seqs = [h["seq"] for h in hs]
     skipped = sum(b - a - 1 for a, b in zip(seqs, seqs[1:]))
