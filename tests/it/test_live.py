@@ -220,3 +220,51 @@ def test_raw_stream_is_read_by_ffmpeg(hdlamp, lamps, tmp_path):
                           "-f", "rawvideo", "-pix_fmt", "rgb24", "-"], capture_output=True,
                          check=True).stdout
     assert len(raw) == SIZE[0] * SIZE[1] * 3 and len(set(raw)) > 20
+
+
+def test_unix_socket_stream(hdlamp, lamps, tmp_path):
+    log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), str(tmp_path), phase=10)
+    path = tmp_path / "frames.sock"
+    p, _, _ = start(lamps, "--replay", log, "--loop", "--set", "stream.tcp=",
+                    "--set", f"stream.unix={path}")
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    s.settimeout(10)
+    s.connect(str(path))
+    got = [read_frame(s) for _ in range(5)]
+    s.close()
+    p.send_signal(signal.SIGTERM)
+    assert p.wait(10) == 0
+    seqs = [h["seq"] for h, _ in got]
+    assert seqs == sorted(set(seqs)) and all(len(px) == SIZE[0] * SIZE[1] * 3 for _, px in got)
+    assert not path.exists()  # removed at exit
+
+
+@pytest.mark.parametrize("mode", ["dark", "preset:high"])
+def test_failsafe_modes_render_their_values(hdlamp, lamps, tmp_path, mode):
+    log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), str(tmp_path), phase=3)
+    p, port, _ = start(lamps, "--replay", log, "--set", f"lamps.failsafe={mode}",
+                       "--set", f"lamps.presets={lamps}")
+    frames, stop = [], threading.Event()
+    t = threading.Thread(target=collect, args=(port, frames, stop))
+    t.start()
+    assert p.wait(30) == 0
+    t.join(10)
+    both = [(h, px) for h, px in frames if h["flags"] & 0b1010 == 0b1010 and h["cycle_seq_left"]]
+    assert both, "no frame with both lamps in fail-safe after a first cycle (the silence)"
+    if mode == "dark":
+        preset = {"left": [0] * 95, "right": [0] * 95}
+    else:
+        preset = json.loads((lamps / "high.json").read_text())
+    pf = tmp_path / "failsafe.json"
+    pf.write_text(json.dumps(preset))
+    out = tmp_path / "failsafe.png"
+    run(hdlamp, "render", "--lid", f"{lamps}/hd84_left.lid.exr", "--lid",
+        f"{lamps}/hd84_right.lid.exr", "--preset", pf, "--scene", "road", "--view", "display",
+        "--size", f"{SIZE[0]}x{SIZE[1]}", "--out", out)
+    ref = b"".join(read_png(out)[3])
+    h, px = both[-1]
+    assert max(abs(a - b) for a, b in zip(ref, px)) <= 1
+    if mode == "dark":
+        assert max(px) == 0  # nothing lights the scene
+    else:
+        assert len(set(px)) > 20
