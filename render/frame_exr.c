@@ -9,9 +9,11 @@
 
 #include <openexr.h>
 
+#include "render/exr_error.h"
+
 /* What a context's user data points to: the last message, and the memory sink if any. */
 struct exr_msg {
-	char text[256];
+	struct hl_exr_msg m; /* first: hl_exr_keep_message writes here */
 	struct mem_sink *mem;
 };
 
@@ -19,32 +21,6 @@ struct mem_sink {
 	uint8_t *data;
 	size_t size, cap;
 };
-
-static void keep_message(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-	void *ud = NULL;
-
-	(void)code;
-	if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
-		snprintf(((struct exr_msg *)ud)->text, sizeof(((struct exr_msg *)ud)->text), "%s",
-			 msg);
-}
-
-static int fail(struct hl_lid_error *err, int rc, const char *path, const char *fmt, ...)
-{
-	va_list ap;
-	int n;
-
-	if (!err)
-		return rc;
-	n = snprintf(err->msg, sizeof(err->msg), "'%s': ", path);
-	if (n < 0 || (size_t)n >= sizeof(err->msg))
-		return rc;
-	va_start(ap, fmt);
-	vsnprintf(err->msg + n, sizeof(err->msg) - n, fmt, ap);
-	va_end(ap);
-	return rc;
-}
 
 uint16_t hl_half_from_float(float f)
 {
@@ -213,22 +189,21 @@ static int write_file(const char *path, int width, int height, const struct chan
 		      struct hl_lid_error *err, struct mem_sink *mem)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct exr_msg msg = { "", mem };
+	struct exr_msg msg = { { "" }, mem };
 	exr_context_t ctxt;
 	exr_result_t rv;
 	int part, rc = 0;
 
 	if (width < 1 || height < 1 || (info && (info->n_lamps < 0 || info->n_lamps > 2)))
-		return fail(err, -EINVAL, path, "bad image size or lamp count");
-	init.error_handler_fn = keep_message;
+		return hl_exr_fail(err, -EINVAL, path, "bad image size or lamp count");
+	init.error_handler_fn = hl_exr_keep_message;
 	init.user_data = &msg;
 	if (mem)
 		init.write_fn = mem_write;
 	rv = exr_start_write(&ctxt, path,
 			     mem ? EXR_WRITE_FILE_DIRECTLY : EXR_INTERMEDIATE_TEMP_FILE, &init);
 	if (rv != EXR_ERR_SUCCESS)
-		return fail(err, -EIO, path, "cannot create (%s)",
-			    msg.text[0] ? msg.text : exr_get_default_error_message(rv));
+		return hl_exr_fail(err, -EIO, path, "cannot create (%s)", hl_exr_why(rv, &msg.m));
 	rv = exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_initialize_required_attr_simple(ctxt, part, width, height,
@@ -243,11 +218,11 @@ static int write_file(const char *path, int width, int height, const struct chan
 	if (rv == EXR_ERR_SUCCESS)
 		rv = write_chunks(ctxt, width, height, ch, n_ch);
 	if (rv != EXR_ERR_SUCCESS)
-		rc = fail(err, -EIO, path, "cannot write (%s)",
-			  msg.text[0] ? msg.text : exr_get_default_error_message(rv));
+		rc = hl_exr_fail(err, -EIO, path, "cannot write (%s)", hl_exr_why(rv, &msg.m));
 	rv = exr_finish(&ctxt);
 	if (rc == 0 && rv != EXR_ERR_SUCCESS)
-		rc = fail(err, -EIO, path, "cannot finish (%s)", exr_get_default_error_message(rv));
+		rc = hl_exr_fail(err, -EIO, path, "cannot finish (%s)",
+				 exr_get_default_error_message(rv));
 	return rc;
 }
 
@@ -261,7 +236,7 @@ int hl_frame_exr_write_hdr(const char *path, int width, int height, const float 
 	int rc;
 
 	if (!half)
-		return fail(err, -ENOMEM, path, "out of memory");
+		return hl_exr_fail(err, -ENOMEM, path, "out of memory");
 	for (size_t i = 0; i < n; i++)
 		half[i] = hl_half_from_float(rgba[i]);
 	for (int c = 0; c < 4; c++)
