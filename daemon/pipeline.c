@@ -315,6 +315,7 @@ static void render(struct hl_pipeline *p)
 			memcpy(f->dist[l], hl_renderer_distribution(p->r, l),
 			       sizeof(float) * (size_t)g->width * g->height);
 			f->hdr.cycle_seq[l] = s->lamps[l].cycle_seq;
+			f->hdr.t_lamp_done_ns[l] = s->lamps[l].t_complete_mono_ns;
 			f->hdr.counter[l] = s->lamps[l].counter;
 		}
 		f->hdr.flags = flags;
