@@ -140,6 +140,46 @@ const double *hl_hemicube_weights(const struct hl_hemicube *h)
 	return h->weights;
 }
 
+void hl_hemicube_subdir(const struct hl_hemicube *h, size_t i, int su, int sv, int s, double ret[3])
+{
+	const int n = h->size;
+	const double step = 2.0 / n;
+	const double fu = (su + 0.5) / s * step, fv = (sv + 0.5) / s * step;
+	size_t j;
+	double u, z;
+
+	if (i < (size_t)n * n) {
+		ret[0] = -1.0 + (double)(i % n) * step + fu;
+		ret[1] = -1.0 + (double)(i / n) * step + fv;
+		ret[2] = 1.0;
+		return;
+	}
+	j = i - (size_t)n * n;
+	u = -1.0 + (double)(j % n) * step + fu;
+	z = (double)((j % ((size_t)n * n / 2)) / n) * step + fv;
+	switch (j / ((size_t)n * n / 2)) {
+	case 0:
+		ret[0] = 1.0, ret[1] = u;
+		break;
+	case 1:
+		ret[0] = -1.0, ret[1] = u;
+		break;
+	case 2:
+		ret[0] = u, ret[1] = 1.0;
+		break;
+	default:
+		ret[0] = u, ret[1] = -1.0;
+		break;
+	}
+	ret[2] = z;
+}
+
+double hl_hemicube_texel_radius(const struct hl_hemicube *h)
+{
+	/* Half the texel diagonal, seen from at least unit distance. */
+	return M_SQRT2 / h->size;
+}
+
 void hl_hemicube_frame(const double n[3], double t[3], double b[3])
 {
 	/* The world axis least aligned with n, crossed with n. */

@@ -39,6 +39,15 @@ const float *hl_hemicube_dirs(const struct hl_hemicube *h);
 const double *hl_hemicube_weights(const struct hl_hemicube *h);
 
 /*
+ * Direction (local frame, not unit) of sub-sample (su, sv) of an s x s grid over texel i:
+ * supersampling a texel splits its weight evenly over its sub-samples.
+ */
+void hl_hemicube_subdir(const struct hl_hemicube *h, size_t i, int su, int sv, int s,
+			double ret[3]);
+/* Upper bound of the angle from a texel's centre direction to any point of the texel, rad. */
+double hl_hemicube_texel_radius(const struct hl_hemicube *h);
+
+/*
  * Projected solid angle of the rectangle [x0, x1] x [y0, y1] of the front face (plane z = 1),
  * and of [y0, y1] x [z0, z1] of the side face x = 1 (z the height above the tangent plane).
  */

@@ -253,6 +253,22 @@ static void posts(const double o[3], const double d[3], struct hit *best)
 		}
 }
 
+int hl_scene_thin_objects(const struct hl_scene *s, struct hl_capsule *ret, int max)
+{
+	int n = 0;
+
+	if (s->kind != HL_SCENE_ROAD && s->kind != HL_SCENE_BIRD)
+		return 0;
+	for (double x = POST_STEP_M; x <= HL_ROAD_LENGTH_M + 1e-9; x += POST_STEP_M)
+		for (int side = -1; side <= 1 && n < max; side += 2)
+			ret[n++] = (struct hl_capsule){
+				.a = { x, side * POST_Y_M, 0.0 },
+				.b = { x, side * POST_Y_M, POST_HEIGHT_M },
+				.r_m = POST_SIDE_M * M_SQRT1_2,
+			};
+	return n;
+}
+
 /* The measuring screen x = D, facing the vehicle. */
 static void wall(const struct hl_scene *s, const double o[3], const double d[3], struct hit *best)
 {

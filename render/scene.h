@@ -77,6 +77,18 @@ struct hl_gbuffer {
 	float *albedo; /* 1 float per pixel: pos[4 i + 3] packed, for the per-frame views */
 };
 
+/*
+ * A thin object: the capsule of radius r_m around the segment a-b. Sensors (render/sensor.h)
+ * supersample the texels whose cone passes near one, since a point-sampled sensor map misses
+ * or catches such objects by chance (aliasing).
+ */
+struct hl_capsule {
+	double a[3], b[3];
+	double r_m;
+};
+
+#define HL_SCENE_MAX_THIN 64
+
 /* "sphere", "wall", "road", "bird", "bounce" to a kind; -EINVAL otherwise. */
 int hl_scene_from_name(const char *name);
 const char *hl_scene_name(enum hl_scene_kind kind);
@@ -99,6 +111,9 @@ void hl_gbuffer_free(struct hl_gbuffer *gb);
  * Allocates nothing.
  */
 int hl_scene_render(const struct hl_scene *s, const struct hl_camera *cam, struct hl_gbuffer *gb);
+
+/* The scene's thin objects (the road's posts) into ret; returns how many (at most max). */
+int hl_scene_thin_objects(const struct hl_scene *s, struct hl_capsule *ret, int max);
 
 /* Casts one ray (origin o, direction d); fills pos/nrm (4 floats each) and returns the id. */
 enum hl_surface hl_scene_cast(const struct hl_scene *s, const double o[3], const double d[3],

@@ -43,15 +43,26 @@ double hl_sensor_scene_radiance(const void *field, const double o[3], const doub
 /* Floats of scratch a batch needs: the world directions of the hemicube's texels. */
 size_t hl_sensor_scratch_floats(const struct hl_hemicube *h);
 
+/*
+ * Anti-aliasing of thin objects: texels whose cone passes within a capsule's radius (plus the
+ * texel's own angular size at that distance) are supersampled with samples x samples rays.
+ */
+struct hl_sensor_aa {
+	const struct hl_capsule *thin;
+	int n_thin;
+	int samples; /* per texel side, >= 1 */
+};
+
 /* Offset of a sensor's eye from its surface point along the normal, m (no self-hits). */
 #define HL_SENSOR_OFFSET_M 1e-3
 
 /*
  * Irradiance (lux) at count points p (3 doubles each, on the surface) sharing unit normal n,
- * into ret_lx. scratch: hl_sensor_scratch_floats() floats. Allocates nothing.
+ * into ret_lx. aa: NULL for plain point sampling. scratch: hl_sensor_scratch_floats() floats.
+ * Allocates nothing.
  */
 void hl_sensor_batch(const struct hl_hemicube *h, hl_radiance_fn fn, const void *field,
-		     const double n[3], size_t count, const double *p, float *scratch,
-		     double *ret_lx);
+		     const struct hl_sensor_aa *aa, const double n[3], size_t count,
+		     const double *p, float *scratch, double *ret_lx);
 
 #endif
