@@ -412,6 +412,82 @@ static void gi_energy_check_bounce_wall(void **state)
 	free(ind);
 }
 
+/*
+ * Inside a diffuse sphere every point sees every surface element dA with the same form factor
+ * dA / (4 pi R^2), so one bounce gives the same irradiance everywhere:
+ * E = rho Phi / (4 pi R^2), Phi the lamp's flux (integral of I over the solid angle; type A:
+ * d(omega) = cos V dH dV), computed here from the analytic source.
+ */
+static void gi_sphere_interior_is_uniform(void **state)
+{
+	const int w = 48, h = 27;
+	struct hl_lamp_pose poses[2];
+	struct hl_sensor_scene field = { 0 };
+	struct hl_gi_config cfg;
+	struct hl_gi_stats st;
+	struct hl_scene scene;
+	struct hl_camera cam;
+	struct hl_gbuffer *gb;
+	struct hl_lid_grid g;
+	float *dense, *ind;
+	double phi = 0.0, expect, lo = INFINITY, hi = 0.0, sum = 0.0;
+	const int nh = 3600, nv = 1000;
+	int n = 0;
+
+	(void)state;
+	hl_model_default_grid(&g);
+	/* The flux, midpoint rule over the measured range (the source is ~0 at its edges). */
+	for (int j = 0; j < nv; j++)
+		for (int i = 0; i < nh; i++) {
+			const double hd =
+				g.h_first_deg + (i + 0.5) * (g.h_last_deg - g.h_first_deg) / nh;
+			const double vd =
+				g.v_first_deg + (j + 0.5) * (g.v_last_deg - g.v_first_deg) / nv;
+
+			phi += bounce_cd(hd, vd) * cos(vd * DEG);
+		}
+	phi *= (g.h_last_deg - g.h_first_deg) * DEG / nh * (g.v_last_deg - g.v_first_deg) * DEG /
+	       nv;
+	dense = malloc(sizeof(float) * g.width * g.height);
+	ind = malloc(sizeof(float) * w * h);
+	assert_non_null(dense);
+	assert_non_null(ind);
+	for (int row = 0; row < g.height; row++)
+		for (int col = 0; col < g.width; col++)
+			dense[row * g.width + col] = (float)bounce_cd(hl_lid_grid_h_deg(&g, col),
+								      hl_lid_grid_v_deg(&g, row));
+	hl_lamp_pose_default(0, &poses[0]);
+	hl_lamp_pose_default(1, &poses[1]);
+	hl_scene_init(&scene, HL_SCENE_SPHERE, poses);
+	hl_scene_default_camera(&scene, w, h, &cam);
+	assert_int_equal(hl_gbuffer_new(w, h, &gb), 0);
+	assert_int_equal(hl_scene_render(&scene, &cam, gb), 0);
+	field.scene = &scene;
+	field.n_lamps = 1;
+	field.lamps[0] = (struct hl_headlight_lamp){ poses[0], g };
+	field.dense[0] = dense;
+	hl_gi_config_default(&cfg);
+	cfg.tile = 4;
+	cfg.sigma_px = 0.0;
+	assert_int_equal(hl_gi_run(&cfg, hl_sensor_scene_radiance, &field, gb, ind, &st), 0);
+	expect = gb->albedo[0] * phi / (4 * M_PI * scene.sphere_radius_m * scene.sphere_radius_m);
+	for (int i = 0; i < w * h; i++) {
+		lo = fmin(lo, ind[i]);
+		hi = fmax(hi, ind[i]);
+		sum += ind[i];
+		n++;
+	}
+	printf("sphere interior: flux %.1f lm, expected %.5f lx everywhere; %zu sensors: mean "
+	       "%.5f (%+.2f %%), min %+.2f %%, max %+.2f %%\n",
+	       phi, expect, st.sensors, sum / n, 100 * (sum / n - expect) / expect,
+	       100 * (lo - expect) / expect, 100 * (hi - expect) / expect);
+	assert_true(fabs(sum / n - expect) < 0.02 * expect);
+	assert_true(lo > 0.95 * expect && hi < 1.05 * expect);
+	hl_gbuffer_free(gb);
+	free(dense);
+	free(ind);
+}
+
 /* Road, HD84 lamps, low beam (hdlamp render's default): the combined distributions of both lamps. */
 static void road_field(struct hl_lid *lids[2], float *dense[2], struct hl_sensor_scene *field,
 		       struct hl_scene *scene)
@@ -571,6 +647,7 @@ int main(void)
 		cmocka_unit_test(gi_filter_keeps_surfaces_apart),
 		cmocka_unit_test(gi_rejects_bad_config),
 		cmocka_unit_test(gi_energy_check_bounce_wall),
+		cmocka_unit_test(gi_sphere_interior_is_uniform),
 		cmocka_unit_test(gi_adaptive_road_matches_sensor_per_pixel),
 	};
 
