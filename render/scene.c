@@ -240,10 +240,47 @@ static void box(const double o[3], const double d[3], const double lo[3], const 
 	     HL_SURF_POST, ALBEDO_POST);
 }
 
+/* Whether the ray meets the box [lo, hi] before best: a conservative reject, no hit kept. */
+static bool meets(const double o[3], const double d[3], const double lo[3], const double hi[3],
+		  const struct hit *best)
+{
+	double t0 = 1e-6, t1 = best->t;
+
+	for (int i = 0; i < 3; i++) {
+		double a, b;
+
+		if (d[i] == 0.0) {
+			if (o[i] < lo[i] || o[i] > hi[i])
+				return false;
+			continue;
+		}
+		a = (lo[i] - o[i]) / d[i];
+		b = (hi[i] - o[i]) / d[i];
+		if (a > b) {
+			const double tmp = a;
+
+			a = b;
+			b = tmp;
+		}
+		t0 = a > t0 ? a : t0;
+		t1 = b < t1 ? b : t1;
+	}
+	return t0 <= t1;
+}
+
 static void posts(const double o[3], const double d[3], struct hit *best)
 {
-	for (double x = POST_STEP_M; x <= HL_ROAD_LENGTH_M + 1e-9; x += POST_STEP_M)
-		for (int side = -1; side <= 1; side += 2) {
+	for (int side = -1; side <= 1; side += 2) {
+		/* The row of posts on this side as one box: most rays miss it (sensors). */
+		const double row_lo[3] = { POST_STEP_M - POST_SIDE_M, side * POST_Y_M - POST_SIDE_M,
+					   -POST_SIDE_M };
+		const double row_hi[3] = { HL_ROAD_LENGTH_M + POST_SIDE_M,
+					   side * POST_Y_M + POST_SIDE_M,
+					   POST_HEIGHT_M + POST_SIDE_M };
+
+		if (!meets(o, d, row_lo, row_hi, best))
+			continue;
+		for (double x = POST_STEP_M; x <= HL_ROAD_LENGTH_M + 1e-9; x += POST_STEP_M) {
 			const double lo[3] = { x - POST_SIDE_M / 2,
 					       side * POST_Y_M - POST_SIDE_M / 2, 0.0 };
 			const double hi[3] = { x + POST_SIDE_M / 2,
@@ -251,6 +288,7 @@ static void posts(const double o[3], const double d[3], struct hit *best)
 
 			box(o, d, lo, hi, best);
 		}
+	}
 }
 
 int hl_scene_thin_objects(const struct hl_scene *s, struct hl_capsule *ret, int max)
