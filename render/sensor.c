@@ -31,7 +31,7 @@ size_t hl_sensor_scratch_floats(const struct hl_hemicube *h)
  * Whether the ray o + t d (t > 0, d unit) passes within r + t tan(alpha) of the segment a-b:
  * the closest points of the two lines, clamped to the segment and the ray.
  */
-static bool near_capsule(const struct hl_capsule *c, double alpha, const double o[3],
+static bool near_capsule(const struct hl_capsule *c, double tan_alpha, const double o[3],
 			 const double d[3])
 {
 	double ab[3], ao[3], q[3], ab2 = 0.0, abd = 0.0, abo = 0.0, dao = 0.0, den, s, t,
@@ -61,10 +61,41 @@ static bool near_capsule(const struct hl_capsule *c, double alpha, const double 
 		dist2 += q[i] * q[i];
 	}
 	{
-		const double reach = c->r_m + t * tan(alpha);
+		const double reach = c->r_m + t * tan_alpha;
 
 		return dist2 < reach * reach;
 	}
+}
+
+/* A capsule as seen from a sensor: the cone around it, widened by the texel's cone. */
+struct cone {
+	const struct hl_capsule *c;
+	double dir[3]; /* unit, to the segment's midpoint */
+	double cos_reach; /* rays with d . dir below this cannot come near */
+};
+
+static void add_cone(struct cone *k, const struct hl_capsule *c, const double o[3], double alpha)
+{
+	double m[3], dist = 0.0, half = 0.0, beta;
+
+	for (int i = 0; i < 3; i++) {
+		m[i] = (c->a[i] + c->b[i]) / 2 - o[i];
+		dist += m[i] * m[i];
+		half += (c->b[i] - c->a[i]) * (c->b[i] - c->a[i]);
+	}
+	dist = sqrt(dist);
+	half = sqrt(half) / 2 + c->r_m;
+	k->c = c;
+	/* Inside the bounding sphere or close to it: every direction may pass near. */
+	if (dist <= half * 1.01) {
+		k->dir[0] = k->dir[1] = k->dir[2] = 0.0;
+		k->cos_reach = -2.0;
+		return;
+	}
+	for (int i = 0; i < 3; i++)
+		k->dir[i] = m[i] / dist;
+	beta = asin(half / dist) + alpha;
+	k->cos_reach = beta >= M_PI ? -2.0 : cos(beta);
 }
 
 void hl_sensor_batch(const struct hl_hemicube *h, hl_radiance_fn fn, const void *field,
@@ -75,7 +106,7 @@ void hl_sensor_batch(const struct hl_hemicube *h, hl_radiance_fn fn, const void 
 	const float *local = hl_hemicube_dirs(h);
 	const double *w = hl_hemicube_weights(h);
 	/* The texel's cone, widened by half a sub-sample spacing and a margin. */
-	const double alpha = 1.5 * hl_hemicube_texel_radius(h);
+	const double alpha = 1.5 * hl_hemicube_texel_radius(h), tan_alpha = tan(alpha);
 	const int ss = aa && aa->n_thin > 0 && aa->samples > 1 ? aa->samples : 1;
 	const double inv_ss2 = 1.0 / (ss * ss);
 	double t[3], b[3];
@@ -92,7 +123,7 @@ void hl_sensor_batch(const struct hl_hemicube *h, hl_radiance_fn fn, const void 
 		const double o[3] = { p[3 * s] + HL_SENSOR_OFFSET_M * n[0],
 				      p[3 * s + 1] + HL_SENSOR_OFFSET_M * n[1],
 				      p[3 * s + 2] + HL_SENSOR_OFFSET_M * n[2] };
-		const struct hl_capsule *near[HL_SCENE_MAX_THIN];
+		struct cone near[HL_SCENE_MAX_THIN];
 		int n_near = 0;
 		double e = 0.0;
 
@@ -106,7 +137,7 @@ void hl_sensor_batch(const struct hl_hemicube *h, hl_radiance_fn fn, const void 
 				hb += (c->b[j] - o[j]) * n[j];
 			}
 			if (ha > -c->r_m || hb > -c->r_m)
-				near[n_near++] = c;
+				add_cone(&near[n_near++], c, o, alpha);
 		}
 		for (size_t i = 0; i < nt; i++) {
 			const double d[3] = { scratch[3 * i], scratch[3 * i + 1],
@@ -114,7 +145,10 @@ void hl_sensor_batch(const struct hl_hemicube *h, hl_radiance_fn fn, const void 
 			bool fine = false;
 
 			for (int k = 0; k < n_near && !fine; k++)
-				fine = near_capsule(near[k], alpha, o, d);
+				fine = d[0] * near[k].dir[0] + d[1] * near[k].dir[1] +
+						       d[2] * near[k].dir[2] >=
+					       near[k].cos_reach &&
+				       near_capsule(near[k].c, tan_alpha, o, d);
 			if (!fine) {
 				e += w[i] * fn(field, o, d);
 				continue;
