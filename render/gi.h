@@ -63,8 +63,8 @@ void hl_gi_config_default(struct hl_gi_config *ret);
 
 /*
  * Indirect illuminance (lux, width * height floats, row 0 at the top; 0 on the sky) of the
- * G-buffer's points in field. 0, -EINVAL (bad config, G-buffer smaller than 2 x 2), -ENOMEM,
- * -EAGAIN (no thread could be started).
+ * G-buffer's points in field. 0, -EINVAL (bad config, G-buffer smaller than 2 x 2), -ENOMEM.
+ * Threads that cannot be started leave their share to the calling thread.
  */
 int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *field,
 	      const struct hl_gbuffer *gb, float *ret_indirect_lx, struct hl_gi_stats *ret_stats);
