@@ -212,6 +212,55 @@ static bool must_refine(const struct hl_gbuffer *gb, const struct hl_gi_config *
 	return hi - lo > cfg->dradiance * (mean > floor_lx ? mean : floor_lx);
 }
 
+/*
+ * Whether sensors that neighbouring cells placed on this cell's border (or inside it) disagree
+ * with its bilinear interpolation by more than the refinement threshold: a glow that no corner
+ * saw, found from the side.
+ */
+static bool contradicted(const struct hl_gbuffer *gb, const struct hl_gi_config *cfg,
+			 const uint8_t *state, const float *val, const struct cell *c,
+			 double floor_lx)
+{
+	const int w = gb->width;
+	const double v00 = val[(size_t)c->y0 * w + c->x0], v10 = val[(size_t)c->y0 * w + c->x1];
+	const double v01 = val[(size_t)c->y1 * w + c->x0], v11 = val[(size_t)c->y1 * w + c->x1];
+	const double sx = c->x1 > c->x0 ? c->x1 - c->x0 : 1, sy = c->y1 > c->y0 ? c->y1 - c->y0 : 1;
+	const double mean = (v00 + v10 + v01 + v11) / 4;
+	const double limit = cfg->dradiance * (mean > floor_lx ? mean : floor_lx);
+
+	if (gb->nrm[4 * ((size_t)c->y0 * w + c->x0) + 3] == (float)HL_SURF_NONE)
+		return false;
+	for (int y = c->y0; y <= c->y1; y++)
+		for (int x = c->x0; x <= c->x1; x++) {
+			const size_t i = (size_t)y * w + x;
+			const double fx = (x - c->x0) / sx, fy = (y - c->y0) / sy;
+			double pred;
+
+			if (state[i] != DONE)
+				continue;
+			pred = (1 - fy) * ((1 - fx) * v00 + fx * v10) +
+			       fy * ((1 - fx) * v01 + fx * v11);
+			if (fabs(val[i] - pred) > limit)
+				return true;
+		}
+	return false;
+}
+
+static void split(const struct cell *cl, struct cell *out, size_t *n)
+{
+	const int xm = (cl->x0 + cl->x1) / 2, ym = (cl->y0 + cl->y1) / 2;
+	const bool sx = cl->x1 - cl->x0 >= 2, sy = cl->y1 - cl->y0 >= 2;
+
+	for (int j = 0; j < (sy ? 2 : 1); j++)
+		for (int i = 0; i < (sx ? 2 : 1); i++)
+			out[(*n)++] = (struct cell){
+				i == 0 ? cl->x0 : xm,
+				j == 0 ? cl->y0 : ym,
+				(i == 1 || !sx) ? cl->x1 : xm,
+				(j == 1 || !sy) ? cl->y1 : ym,
+			};
+}
+
 /* Bilinear from the corners into the cell's pixels that have no sensor of their own. */
 static void interpolate(const struct hl_gbuffer *gb, const uint8_t *state, float *val,
 			const struct cell *c)
@@ -281,8 +330,8 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 	float *val = NULL;
 	struct key *keys = NULL;
 	struct batch *batches = NULL;
-	struct cell *cells = NULL, *next = NULL;
-	size_t n_cells = 0, max_cells, queued_total = 0;
+	struct cell *cells = NULL, *next = NULL, *acc = NULL;
+	size_t n_cells = 0, n_acc = 0, max_cells, queued_total = 0;
 	double floor_lx = 0.0, refine_frac = 0.25;
 	int rc;
 
@@ -299,8 +348,9 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 	batches = malloc(sizeof(*batches) * npix);
 	cells = malloc(sizeof(*cells) * max_cells);
 	next = malloc(sizeof(*next) * max_cells);
+	acc = malloc(sizeof(*acc) * max_cells);
 	rc = -ENOMEM;
-	if (!state || !val || !keys || !batches || !cells || !next)
+	if (!state || !val || !keys || !batches || !cells || !next || !acc)
 		goto out;
 	for (int t = 0; t < cfg->threads; t++) {
 		workers[t].main = t == 0;
@@ -326,9 +376,24 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 			cells[n_cells++] =
 				(struct cell){ x, y, x + cfg->tile < w ? x + cfg->tile : w - 1,
 					       y + cfg->tile < h ? y + cfg->tile : h - 1 };
-	while (n_cells) {
+	for (;;) {
 		size_t n_queued = 0, n_next = 0, nb = 0;
 		double t0;
+
+		if (n_cells == 0) {
+			/* Accepted cells that later sensors on their border contradict are split. */
+			size_t keep = 0;
+
+			for (size_t a = 0; a < n_acc; a++) {
+				if (contradicted(gb, cfg, state, val, &acc[a], floor_lx))
+					split(&acc[a], cells, &n_cells);
+				else
+					acc[keep++] = acc[a];
+			}
+			n_acc = keep;
+			if (n_cells == 0)
+				break;
+		}
 
 		for (size_t c = 0; c < n_cells; c++)
 			queue_cell(gb, state, keys, &n_queued, &cells[c]);
@@ -356,23 +421,13 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 		}
 		for (size_t c = 0; c < n_cells; c++) {
 			const struct cell *cl = &cells[c];
-			const int xm = (cl->x0 + cl->x1) / 2, ym = (cl->y0 + cl->y1) / 2;
-			const bool sx = cl->x1 - cl->x0 >= 2, sy = cl->y1 - cl->y0 >= 2;
 
-			if (!sx && !sy)
+			if (cl->x1 - cl->x0 < 2 && cl->y1 - cl->y0 < 2)
 				continue; /* every pixel is a corner */
-			if (!must_refine(gb, cfg, val, cl, floor_lx)) {
-				interpolate(gb, state, val, cl);
-				continue;
-			}
-			for (int j = 0; j < (sy ? 2 : 1); j++)
-				for (int i = 0; i < (sx ? 2 : 1); i++)
-					next[n_next++] = (struct cell){
-						i == 0 ? cl->x0 : xm,
-						j == 0 ? cl->y0 : ym,
-						(i == 1 || !sx) ? cl->x1 : xm,
-						(j == 1 || !sy) ? cl->y1 : ym,
-					};
+			if (!must_refine(gb, cfg, val, cl, floor_lx))
+				acc[n_acc++] = *cl;
+			else
+				split(cl, next, &n_next);
 		}
 		refine_frac = n_cells ? (double)n_next / (4.0 * n_cells) : 0.0;
 		{
@@ -383,6 +438,8 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 			n_cells = n_next;
 		}
 	}
+	for (size_t a = 0; a < n_acc; a++)
+		interpolate(gb, state, val, &acc[a]);
 	if (cfg->progress)
 		cfg->progress(cfg->userdata, st.sensors, st.sensors);
 	if (cfg->sigma_px > 0.0)
@@ -404,6 +461,7 @@ out:
 	free(batches);
 	free(cells);
 	free(next);
+	free(acc);
 	hl_hemicube_free(cube);
 	return rc;
 }
