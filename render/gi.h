@@ -8,7 +8,10 @@
  *               to their mean, or to the mean of the first level's sensors where that is
  *               larger, so that faint regions do not draw sensors) or where its
  *               pixels do not all lie on one smooth surface (normal within 25°, coplanar) or
- *               mix sky and surface; down to single pixels. Pixels of accepted tiles are
+ *               mix sky and surface; down to single pixels. When no tile is left to split,
+ *               accepted tiles are checked against the sensors their refined neighbours put on
+ *               their border and split if those disagree with the interpolation by more than
+ *               the same threshold (a glow no corner saw). Pixels of accepted tiles are
  *               interpolated bilinearly from the tile's corners. tile 1 = a sensor per pixel.
  *   sensor map  a hemicube (render/hemicube.h); texels near the scene's thin objects (the
  *               road's posts) supersampled, or a sensor catches or misses a post by chance
@@ -52,7 +55,7 @@ struct hl_gi_stats {
 	size_t sensors; /* sensors rendered */
 	size_t surface_pixels; /* pixels that hit a surface: the sensors of one per pixel */
 	size_t batches;
-	int levels; /* refinement levels run (1 when nothing was refined) */
+	int levels; /* passes of sensors run: refinement levels and re-checks (1: none refined) */
 	double sensor_ms; /* wall time inside the sensor batches */
 	double total_ms; /* wall time of hl_gi_run */
 };

@@ -571,7 +571,7 @@ static int run_gi(struct options *o, const struct hl_scene *scene, const struct 
 	}
 	fprintf(stderr,
 		"hdlamp render: gi: %zu sensors for %zu surface pixels (%.1fx fewer than one per "
-		"pixel), %d levels, %zu batches, %dx%d hemicube (%d texels, aa %d), %.3f ms per "
+		"pixel), %d passes, %zu batches, %dx%d hemicube (%d texels, aa %d), %.3f ms per "
 		"sensor (%d threads), sensors %.0f ms, total %.0f ms\n",
 		st.sensors, st.surface_pixels,
 		st.sensors ? (double)st.surface_pixels / st.sensors : 0.0, st.levels, st.batches,

@@ -569,7 +569,7 @@ static void gi_adaptive_road_matches_sensor_per_pixel(void **state)
 		}
 	}
 	printf("road %dx%d, 32x32 hemicube: one per pixel %zu sensors (%.3f ms each), adaptive "
-	       "%zu sensors (%.3f ms each, %d levels): %.1fx fewer, mean error %.3f %%\n",
+	       "%zu sensors (%.3f ms each, %d passes): %.1fx fewer, mean error %.3f %%\n",
 	       w, h, full.sensors, full.sensor_ms / full.sensors, adapt.sensors,
 	       adapt.sensor_ms / adapt.sensors, adapt.levels, (double)full.sensors / adapt.sensors,
 	       100 * sum_abs / sum_ref);
