@@ -37,7 +37,7 @@
 #define WALL_LINE_DEG 0.25 /* lines 0.25° wide, as seen from the lamps */
 #define WALL_STEP_DEG 5.0
 
-static const char *const names[] = { "sphere", "wall", "road", "bird" };
+static const char *const names[] = { "sphere", "wall", "road", "bird", "bounce" };
 
 int hl_scene_from_name(const char *name)
 {
@@ -88,6 +88,15 @@ void hl_scene_default_camera(const struct hl_scene *s, int width, int height, st
 		ret->up[1] = 1.0;
 		break;
 	}
+	case HL_SCENE_BOUNCE:
+		/* 8 m ahead of the lamps, looking back at the wall over the lit floor. */
+		ret->pos_m[0] = 8.0;
+		ret->pos_m[2] = 2.0;
+		ret->dir[0] = -1.0;
+		ret->dir[2] = -0.12;
+		ret->up[2] = 1.0;
+		ret->fov_y_deg = 50.0;
+		break;
 	case HL_SCENE_WALL:
 	case HL_SCENE_ROAD:
 		/* Driver's eye: left-hand drive, 1.8 m behind the bumper, 1.2 m up. */
@@ -231,10 +240,47 @@ static void box(const double o[3], const double d[3], const double lo[3], const 
 	     HL_SURF_POST, ALBEDO_POST);
 }
 
+/* Whether the ray meets the box [lo, hi] before best: a conservative reject, no hit kept. */
+static bool meets(const double o[3], const double d[3], const double lo[3], const double hi[3],
+		  const struct hit *best)
+{
+	double t0 = 1e-6, t1 = best->t;
+
+	for (int i = 0; i < 3; i++) {
+		double a, b;
+
+		if (d[i] == 0.0) {
+			if (o[i] < lo[i] || o[i] > hi[i])
+				return false;
+			continue;
+		}
+		a = (lo[i] - o[i]) / d[i];
+		b = (hi[i] - o[i]) / d[i];
+		if (a > b) {
+			const double tmp = a;
+
+			a = b;
+			b = tmp;
+		}
+		t0 = a > t0 ? a : t0;
+		t1 = b < t1 ? b : t1;
+	}
+	return t0 <= t1;
+}
+
 static void posts(const double o[3], const double d[3], struct hit *best)
 {
-	for (double x = POST_STEP_M; x <= HL_ROAD_LENGTH_M + 1e-9; x += POST_STEP_M)
-		for (int side = -1; side <= 1; side += 2) {
+	for (int side = -1; side <= 1; side += 2) {
+		/* The row of posts on this side as one box: most rays miss it (sensors). */
+		const double row_lo[3] = { POST_STEP_M - POST_SIDE_M, side * POST_Y_M - POST_SIDE_M,
+					   -POST_SIDE_M };
+		const double row_hi[3] = { HL_ROAD_LENGTH_M + POST_SIDE_M,
+					   side * POST_Y_M + POST_SIDE_M,
+					   POST_HEIGHT_M + POST_SIDE_M };
+
+		if (!meets(o, d, row_lo, row_hi, best))
+			continue;
+		for (double x = POST_STEP_M; x <= HL_ROAD_LENGTH_M + 1e-9; x += POST_STEP_M) {
 			const double lo[3] = { x - POST_SIDE_M / 2,
 					       side * POST_Y_M - POST_SIDE_M / 2, 0.0 };
 			const double hi[3] = { x + POST_SIDE_M / 2,
@@ -242,6 +288,23 @@ static void posts(const double o[3], const double d[3], struct hit *best)
 
 			box(o, d, lo, hi, best);
 		}
+	}
+}
+
+int hl_scene_thin_objects(const struct hl_scene *s, struct hl_capsule *ret, int max)
+{
+	int n = 0;
+
+	if (s->kind != HL_SCENE_ROAD && s->kind != HL_SCENE_BIRD)
+		return 0;
+	for (double x = POST_STEP_M; x <= HL_ROAD_LENGTH_M + 1e-9; x += POST_STEP_M)
+		for (int side = -1; side <= 1 && n < max; side += 2)
+			ret[n++] = (struct hl_capsule){
+				.a = { x, side * POST_Y_M, 0.0 },
+				.b = { x, side * POST_Y_M, POST_HEIGHT_M },
+				.r_m = POST_SIDE_M * M_SQRT1_2,
+			};
+	return n;
 }
 
 /* The measuring screen x = D, facing the vehicle. */
@@ -281,6 +344,26 @@ static void wall(const struct hl_scene *s, const double o[3], const double d[3],
 	}
 	take(best, t, -1, 0, 0, line ? HL_SURF_WALL_LINE : HL_SURF_WALL,
 	     line ? ALBEDO_WALL_LINE : ALBEDO_WALL);
+}
+
+/* The bounce scene: the floor and the wall behind the lamps. */
+static void bounce(const double o[3], const double d[3], struct hit *best)
+{
+	if (d[2] < 0.0 && o[2] > 0.0) {
+		const double t = -o[2] / d[2];
+		const double x = o[0] + t * d[0], y = o[1] + t * d[1];
+
+		if (x >= HL_BOUNCE_WALL_X_M && x <= HL_BOUNCE_FLOOR_END_M &&
+		    fabs(y) <= HL_BOUNCE_FLOOR_HALF_M)
+			take(best, t, 0, 0, 1, HL_SURF_FLOOR, HL_BOUNCE_FLOOR_ALBEDO);
+	}
+	if (d[0] < 0.0 && o[0] > HL_BOUNCE_WALL_X_M) {
+		const double t = (HL_BOUNCE_WALL_X_M - o[0]) / d[0];
+		const double y = o[1] + t * d[1], z = o[2] + t * d[2];
+
+		if (fabs(y) <= HL_BOUNCE_WALL_HALF_M && z >= 0.0 && z <= HL_BOUNCE_WALL_HEIGHT_M)
+			take(best, t, 1, 0, 0, HL_SURF_WALL, HL_BOUNCE_WALL_ALBEDO);
+	}
 }
 
 /* From inside the sphere, the far intersection; the normal points to the centre. */
@@ -327,6 +410,9 @@ enum hl_surface hl_scene_cast(const struct hl_scene *s, const double o[3], const
 	case HL_SCENE_BIRD:
 		ground(s, o, d, &best);
 		posts(o, d, &best);
+		break;
+	case HL_SCENE_BOUNCE:
+		bounce(o, d, &best);
 		break;
 	}
 	if (best.id == HL_SURF_NONE) {

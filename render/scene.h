@@ -10,6 +10,8 @@
  *   road    straight two-lane road, 3.5 m lanes with markings, 140 m long, white posts every
  *           10 m on both edges
  *   bird    the road seen from above with a 10 m distance grid
+ *   bounce  validation of indirect light: a large grey floor lit by the lamps and a white wall
+ *           3 m behind them (the lamps cannot light it directly), seen from 8 m ahead
  *
  * Thread-safety: a scene is read-only once made; a G-buffer is filled by one thread.
  */
@@ -25,6 +27,7 @@ enum hl_scene_kind {
 	HL_SCENE_WALL,
 	HL_SCENE_ROAD,
 	HL_SCENE_BIRD,
+	HL_SCENE_BOUNCE,
 };
 
 /* Surface ids in the G-buffer. */
@@ -38,12 +41,23 @@ enum hl_surface {
 	HL_SURF_WALL_LINE,
 	HL_SURF_SPHERE,
 	HL_SURF_GRID,
+	HL_SURF_FLOOR,
 };
 
 #define HL_SPHERE_RADIUS_M 10.0
 #define HL_WALL_DISTANCE_M 25.0
 #define HL_ROAD_LENGTH_M 140.0
 #define HL_LANE_WIDTH_M 3.5
+
+/* The bounce scene: floor z = 0 over x in [wall, end], |y| <= half; wall x = HL_BOUNCE_WALL_X_M
+ * facing +x, |y| <= HL_BOUNCE_WALL_HALF_M, z in [0, HL_BOUNCE_WALL_HEIGHT_M]. */
+#define HL_BOUNCE_WALL_X_M (-3.0)
+#define HL_BOUNCE_WALL_HALF_M 6.0
+#define HL_BOUNCE_WALL_HEIGHT_M 4.0
+#define HL_BOUNCE_FLOOR_END_M 40.0
+#define HL_BOUNCE_FLOOR_HALF_M 20.0
+#define HL_BOUNCE_FLOOR_ALBEDO 0.5
+#define HL_BOUNCE_WALL_ALBEDO 0.8
 
 struct hl_scene {
 	enum hl_scene_kind kind;
@@ -63,7 +77,19 @@ struct hl_gbuffer {
 	float *albedo; /* 1 float per pixel: pos[4 i + 3] packed, for the per-frame views */
 };
 
-/* "sphere", "wall", "road", "bird" to a kind; -EINVAL otherwise. */
+/*
+ * A thin object: the capsule of radius r_m around the segment a-b. Sensors (render/sensor.h)
+ * supersample the texels whose cone passes near one, since a point-sampled sensor map misses
+ * or catches such objects by chance (aliasing).
+ */
+struct hl_capsule {
+	double a[3], b[3];
+	double r_m;
+};
+
+#define HL_SCENE_MAX_THIN 64
+
+/* "sphere", "wall", "road", "bird", "bounce" to a kind; -EINVAL otherwise. */
 int hl_scene_from_name(const char *name);
 const char *hl_scene_name(enum hl_scene_kind kind);
 
@@ -85,6 +111,9 @@ void hl_gbuffer_free(struct hl_gbuffer *gb);
  * Allocates nothing.
  */
 int hl_scene_render(const struct hl_scene *s, const struct hl_camera *cam, struct hl_gbuffer *gb);
+
+/* The scene's thin objects (the road's posts) into ret; returns how many (at most max). */
+int hl_scene_thin_objects(const struct hl_scene *s, struct hl_capsule *ret, int max);
 
 /* Casts one ray (origin o, direction d); fills pos/nrm (4 floats each) and returns the id. */
 enum hl_surface hl_scene_cast(const struct hl_scene *s, const double o[3], const double d[3],

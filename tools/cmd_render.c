@@ -10,6 +10,7 @@
 
 #include "render/egl.h"
 #include "render/frame_exr.h"
+#include "render/gi.h"
 #include "render/plot.h"
 #include "render/renderer.h"
 #include "render/scene.h"
@@ -21,6 +22,9 @@
 #define DEFAULT_EXPOSURE_EV 0.0 /* 1 cd/m^2 maps to half of full scale */
 #define BIRD_EXPOSURE_EV 2.0 /* from above most of the road is far and dim */
 #define SPHERE_EXPOSURE_EV (-3.0) /* 10 m from the lamp the sphere gets up to ~250 lx */
+
+/* The sensor-based lighting defaults, as hl_gi_config_default() gives them. */
+static struct hl_gi_config GI_DEFAULTS;
 
 static void usage(FILE *f)
 {
@@ -36,7 +40,7 @@ static void usage(FILE *f)
 		"  --preset NAME|FILE   low (default), high, glarefree, bend_left, bend_right\n"
 		"                       (DIR/NAME.json with --lamps, else the built-in HD84 preset),\n"
 		"                       or a preset .json file; ignored for combined distributions\n"
-		"  --scene S            sphere | wall | road (default) | bird\n"
+		"  --scene S            sphere | wall | road (default) | bird | bounce\n"
 		"  --view V             display (default) | hdr | lux | lid\n"
 		"  --size WxH           image size, default 1280x720\n"
 		"  --out FILE           .png (display, lux, lid) or .exr (hdr: RGBA half luminance;\n"
@@ -51,8 +55,22 @@ static void usage(FILE *f)
 		"  --left-aim YAW,PITCH left lamp aim, degrees (yaw + left, pitch + up), default 0,-0.573\n"
 		"  --right-pos, --right-aim  the same for the right lamp (default y -0.7)\n"
 		"  --lamp left|right    lid view: which lamp, default left\n"
-		"  --backend B          auto (default) | cpu | gles: where combine and headlight run\n",
-		DEFAULT_EXPOSURE_EV, BIRD_EXPOSURE_EV, SPHERE_EXPOSURE_EV);
+		"  --backend B          auto (default) | cpu | gles: where combine and headlight run\n"
+		"\n"
+		"Global illumination (offline; --out FILE.png, display view):\n"
+		"  --gi sensor          add the indirect light by sensor-based lighting; writes\n"
+		"                       FILE.png (total), FILE-direct.png, FILE-diff.png (indirect lux,\n"
+		"                       false colour) and FILE-{direct,indirect,total}.exr (cd/m^2)\n"
+		"  --sensor-size N      hemicube front face N x N texels (even), default %d\n"
+		"  --tile T             first sensor spacing, power of two; 1 = a sensor per pixel;\n"
+		"                       default %d\n"
+		"  --dradiance X        refine where neighbouring sensors differ by more than X\n"
+		"                       (relative), default %g\n"
+		"  --sensor-aa S        S x S rays per texel near thin objects, default %d (1 = off)\n"
+		"  --gi-threads N       sensor threads, default %d\n",
+		DEFAULT_EXPOSURE_EV, BIRD_EXPOSURE_EV, SPHERE_EXPOSURE_EV, GI_DEFAULTS.sensor_size,
+		GI_DEFAULTS.tile, GI_DEFAULTS.dradiance, GI_DEFAULTS.aa_samples,
+		GI_DEFAULTS.threads);
 }
 
 struct options {
@@ -68,6 +86,8 @@ struct options {
 	struct hl_view_lux_opts lux;
 	int lamp;
 	enum hl_backend backend;
+	bool gi;
+	struct hl_gi_config gi_cfg;
 };
 
 static int parse_doubles(const char *s, double *out, int n)
@@ -137,6 +157,12 @@ static int parse(int argc, char **argv, struct options *o)
 		OPT_LAMP,
 		OPT_BACKEND,
 		OPT_EXPOSURE,
+		OPT_GI,
+		OPT_SENSOR_SIZE,
+		OPT_TILE,
+		OPT_DRADIANCE,
+		OPT_SENSOR_AA,
+		OPT_GI_THREADS,
 	};
 	static const struct option opts[] = {
 		{ "lamps", required_argument, NULL, 'L' },
@@ -158,6 +184,12 @@ static int parse(int argc, char **argv, struct options *o)
 		{ "right-aim", required_argument, NULL, OPT_RIGHT_AIM },
 		{ "lamp", required_argument, NULL, OPT_LAMP },
 		{ "backend", required_argument, NULL, OPT_BACKEND },
+		{ "gi", required_argument, NULL, OPT_GI },
+		{ "sensor-size", required_argument, NULL, OPT_SENSOR_SIZE },
+		{ "tile", required_argument, NULL, OPT_TILE },
+		{ "dradiance", required_argument, NULL, OPT_DRADIANCE },
+		{ "sensor-aa", required_argument, NULL, OPT_SENSOR_AA },
+		{ "gi-threads", required_argument, NULL, OPT_GI_THREADS },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
@@ -177,6 +209,7 @@ static int parse(int argc, char **argv, struct options *o)
 	hl_lamp_pose_default(0, &o->poses[0]);
 	hl_lamp_pose_default(1, &o->poses[1]);
 	hl_view_lux_defaults(&o->lux);
+	hl_gi_config_default(&o->gi_cfg);
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
 		switch (c) {
@@ -194,7 +227,7 @@ static int parse(int argc, char **argv, struct options *o)
 		case 's':
 			rc = hl_scene_from_name(optarg);
 			if (rc < 0)
-				return bad("--scene", optarg, "sphere, wall, road or bird");
+				return bad("--scene", optarg, "sphere, wall, road, bird or bounce");
 			o->scene = rc;
 			break;
 		case 'v':
@@ -267,6 +300,38 @@ static int parse(int argc, char **argv, struct options *o)
 				return bad("--backend", optarg, "auto, cpu or gles");
 			o->backend = rc;
 			break;
+		case OPT_GI:
+			if (strcmp(optarg, "sensor") != 0)
+				return bad("--gi", optarg, "sensor");
+			o->gi = true;
+			break;
+		case OPT_SENSOR_SIZE:
+			if (sscanf(optarg, "%d%c", &o->gi_cfg.sensor_size, &tail) != 1 ||
+			    o->gi_cfg.sensor_size < 2 || o->gi_cfg.sensor_size > 512 ||
+			    o->gi_cfg.sensor_size % 2)
+				return bad("--sensor-size", optarg, "an even number in 2..512");
+			break;
+		case OPT_TILE:
+			if (sscanf(optarg, "%d%c", &o->gi_cfg.tile, &tail) != 1 ||
+			    o->gi_cfg.tile < 1 || o->gi_cfg.tile > 256 ||
+			    (o->gi_cfg.tile & (o->gi_cfg.tile - 1)))
+				return bad("--tile", optarg, "a power of two in 1..256");
+			break;
+		case OPT_DRADIANCE:
+			if (parse_doubles(optarg, &o->gi_cfg.dradiance, 1) < 0 ||
+			    !(o->gi_cfg.dradiance > 0.0))
+				return bad("--dradiance", optarg, "a number > 0");
+			break;
+		case OPT_SENSOR_AA:
+			if (sscanf(optarg, "%d%c", &o->gi_cfg.aa_samples, &tail) != 1 ||
+			    o->gi_cfg.aa_samples < 1 || o->gi_cfg.aa_samples > 16)
+				return bad("--sensor-aa", optarg, "1..16");
+			break;
+		case OPT_GI_THREADS:
+			if (sscanf(optarg, "%d%c", &o->gi_cfg.threads, &tail) != 1 ||
+			    o->gi_cfg.threads < 1 || o->gi_cfg.threads > HL_GI_MAX_THREADS)
+				return bad("--gi-threads", optarg, "1..64");
+			break;
 		case 'h':
 			usage(stdout);
 			return -HL_EXIT_OK - 1;
@@ -284,6 +349,8 @@ static int parse(int argc, char **argv, struct options *o)
 		return bad("--out", o->out, "a .png or .exr file");
 	if (o->view == HL_VIEW_HDR && !ends_with(o->out, ".exr"))
 		return bad("--out", o->out, "an .exr file for the hdr view");
+	if (o->gi && (o->view != HL_VIEW_DISPLAY || !ends_with(o->out, ".png")))
+		return bad("--out", o->out, "a .png file and the display view with --gi");
 	return 0;
 }
 
@@ -427,6 +494,142 @@ static int write_lid(const struct options *o, struct hl_renderer *r, int n_lamps
 	return rc;
 }
 
+static void gi_progress(void *userdata, size_t done, size_t estimated)
+{
+	(void)userdata;
+	fprintf(stderr, "\rhdlamp render: gi: sensors %zu / ~%zu", done, estimated);
+}
+
+/* BASE-suffix from --out BASE.png. */
+static void derived(const char *out, const char *suffix, char *buf, size_t size)
+{
+	snprintf(buf, size, "%.*s-%s", (int)(strlen(out) - 4), out, suffix);
+}
+
+static int write_exr_luminance(const char *path, const struct hl_gbuffer *gb, const float *lux,
+			       struct hl_frame_exr_info *info, float *rgba)
+{
+	struct hl_lid_error err;
+	int rc;
+
+	hl_view_hdr(gb, lux, rgba);
+	rc = hl_frame_exr_write_hdr(path, gb->width, gb->height, rgba, info, &err);
+	if (rc < 0)
+		fprintf(stderr, "hdlamp render: %s\n", err.msg);
+	return rc;
+}
+
+static int write_png(const char *path, const uint8_t *rgb, int w, int h)
+{
+	const int rc = hl_png_write_rgb(path, rgb, w, h);
+
+	if (rc < 0)
+		fprintf(stderr, "hdlamp render: '%s': %s\n", path, strerror(-rc));
+	return rc;
+}
+
+/*
+ * --gi sensor: the indirect illuminance of the G-buffer's points by sensor-based lighting, then
+ * the total (direct + indirect) as the display view and the files beside it.
+ */
+static int run_gi(struct options *o, const struct hl_scene *scene, const struct hl_camera *cam,
+		  const struct hl_gbuffer *gb, struct hl_renderer *r, const float *direct,
+		  int n_lamps)
+{
+	const size_t n = (size_t)gb->width * gb->height;
+	struct hl_capsule thin[HL_SCENE_MAX_THIN];
+	struct hl_sensor_scene field = { .scene = scene, .n_lamps = n_lamps };
+	struct hl_frame_exr_info info = { .camera = cam, .n_lamps = n_lamps };
+	struct hl_gi_stats st;
+	struct hl_view_lux_opts diff_opts;
+	char path[4096], gi_desc[160];
+	float *ind = malloc(sizeof(float) * n), *total = malloc(sizeof(float) * n);
+	float *rgba = malloc(sizeof(float) * 4 * n);
+	uint8_t *rgb = malloc(3 * n);
+	int rc = -ENOMEM;
+
+	if (!ind || !total || !rgba || !rgb) {
+		fprintf(stderr, "hdlamp render: out of memory\n");
+		goto out;
+	}
+	for (int k = 0; k < n_lamps; k++) {
+		field.lamps[k] = (struct hl_headlight_lamp){ o->poses[k], *hl_renderer_grid(r, k) };
+		field.dense[k] = hl_renderer_distribution(r, k);
+		if (!field.dense[k]) {
+			rc = -EIO;
+			goto out;
+		}
+	}
+	o->gi_cfg.thin = thin;
+	o->gi_cfg.n_thin = hl_scene_thin_objects(scene, thin, HL_SCENE_MAX_THIN);
+	o->gi_cfg.progress = gi_progress;
+	rc = hl_gi_run(&o->gi_cfg, hl_sensor_scene_radiance, &field, gb, ind, &st);
+	fputc('\n', stderr);
+	if (rc < 0) {
+		fprintf(stderr, "hdlamp render: gi failed: %s\n", strerror(-rc));
+		goto out;
+	}
+	fprintf(stderr,
+		"hdlamp render: gi: %zu sensors for %zu surface pixels (%.1fx fewer than one per "
+		"pixel), %d passes, %zu batches, %dx%d hemicube (%d texels, aa %d), %.3f ms per "
+		"sensor (%d threads), sensors %.0f ms, total %.0f ms\n",
+		st.sensors, st.surface_pixels,
+		st.sensors ? (double)st.surface_pixels / st.sensors : 0.0, st.levels, st.batches,
+		o->gi_cfg.sensor_size, o->gi_cfg.sensor_size,
+		3 * o->gi_cfg.sensor_size * o->gi_cfg.sensor_size, o->gi_cfg.aa_samples,
+		st.sensors ? st.sensor_ms / st.sensors : 0.0, o->gi_cfg.threads, st.sensor_ms,
+		st.total_ms);
+	for (size_t i = 0; i < n; i++)
+		total[i] = direct[i] + ind[i];
+
+	memcpy(info.lamps, o->poses, sizeof(info.lamps));
+	snprintf(gi_desc, sizeof(gi_desc), "sensor size=%d tile=%d dradiance=%g aa=%d sensors=%zu",
+		 o->gi_cfg.sensor_size, o->gi_cfg.tile, o->gi_cfg.dradiance, o->gi_cfg.aa_samples,
+		 st.sensors);
+	info.n_meta = 2;
+	info.meta_names[0] = "hdlamp:gi";
+	info.meta_values[0] = gi_desc;
+	info.meta_names[1] = "hdlamp:component";
+	{
+		static const char *const comp[] = { "direct", "indirect", "total" };
+		const float *src[] = { direct, ind, total };
+
+		for (int c = 0; c < 3; c++) {
+			char name[32];
+
+			snprintf(name, sizeof(name), "%s.exr", comp[c]);
+			derived(o->out, name, path, sizeof(path));
+			info.meta_values[1] = comp[c];
+			rc = write_exr_luminance(path, gb, src[c], &info, rgba);
+			if (rc < 0)
+				goto out;
+		}
+	}
+	hl_view_display(gb, direct, o->exposure_ev, rgb);
+	derived(o->out, "direct.png", path, sizeof(path));
+	if ((rc = write_png(path, rgb, gb->width, gb->height)) < 0)
+		goto out;
+	/* The difference total - direct is the indirect illuminance: false colour, lux. */
+	hl_view_lux_defaults(&diff_opts);
+	diff_opts.min_lx = 0.001;
+	diff_opts.max_lx = 10.0;
+	diff_opts.n_iso = 0;
+	for (size_t i = 0; i < n; i++)
+		rgba[i] = total[i] - direct[i];
+	hl_view_lux(gb, rgba, &diff_opts, rgb);
+	derived(o->out, "diff.png", path, sizeof(path));
+	if ((rc = write_png(path, rgb, gb->width, gb->height)) < 0)
+		goto out;
+	hl_view_display(gb, total, o->exposure_ev, rgb);
+	rc = write_png(o->out, rgb, gb->width, gb->height);
+out:
+	free(ind);
+	free(total);
+	free(rgba);
+	free(rgb);
+	return rc;
+}
+
 int hl_cmd_render(int argc, char **argv)
 {
 	struct options o;
@@ -442,6 +645,7 @@ int hl_cmd_render(int argc, char **argv)
 	float *lux = NULL, *cur = NULL;
 	int n_lamps = 0, rc, status = HL_EXIT_FAIL;
 
+	hl_gi_config_default(&GI_DEFAULTS);
 	rc = parse(argc, argv, &o);
 	if (rc)
 		return rc < 0 ? HL_EXIT_OK : rc;
@@ -509,8 +713,11 @@ int hl_cmd_render(int argc, char **argv)
 		fprintf(stderr, "hdlamp render: frame failed: %s\n", strerror(-rc));
 		goto out;
 	}
-	rc = o.view == HL_VIEW_LID ? write_lid(&o, r, n_lamps) :
-				     write_image(&o, &cam, gb, lux, n_lamps);
+	if (o.gi)
+		rc = run_gi(&o, &scene, &cam, gb, r, lux, n_lamps);
+	else
+		rc = o.view == HL_VIEW_LID ? write_lid(&o, r, n_lamps) :
+					     write_image(&o, &cam, gb, lux, n_lamps);
 	if (rc == 0) {
 		printf("%s\n", o.out);
 		status = HL_EXIT_OK;
