@@ -172,6 +172,7 @@ static void take_cycle(struct hl_can_input *in, const struct hl_cycle *c,
 	ls->counter = (uint8_t)c->counter;
 	ls->t_rx_first_ns = c->t_rx_first_ns;
 	ls->t_complete_ns = t_event_ns;
+	ls->t_complete_mono_ns = hl_monotonic_ns();
 	ls->status = HL_LAMP_VALID;
 	(void)ev; /* a recovery shows as the STALE bit going away */
 	push(in, t_event_ns);

@@ -238,6 +238,35 @@ static int on_pair(void *user, const char *section, const char *name, const char
 	return c->rc == 0;
 }
 
+/* The line of key name under [section] (inih's syntax: whitespace, '=' or ':'), 0 if none. */
+static int key_line(FILE *f, const char *section, const char *name)
+{
+	char buf[1024], cur[64] = "";
+	int line = 0;
+
+	rewind(f);
+	while (fgets(buf, sizeof(buf), f)) {
+		char *p = buf, *end;
+		size_t n;
+
+		line++;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (*p == '[' && (end = strchr(p, ']'))) {
+			n = (size_t)(end - p - 1);
+			snprintf(cur, sizeof(cur), "%.*s",
+				 (int)(n < sizeof(cur) ? n : sizeof(cur) - 1), p + 1);
+			continue;
+		}
+		n = strlen(name);
+		if (strcmp(cur, section) == 0 && strncmp(p, name, n) == 0 &&
+		    strspn(p + n, " \t") + n < strlen(p) &&
+		    strchr("=:", p[n + strspn(p + n, " \t")]))
+			return line;
+	}
+	return 0;
+}
+
 int hl_config_load(struct hl_config *cfg, const char *path, struct hl_config_error *err)
 {
 	struct load_ctx c = { .cfg = cfg };
@@ -252,10 +281,13 @@ int hl_config_load(struct hl_config *cfg, const char *path, struct hl_config_err
 		return rc;
 	}
 	line = ini_parse_file(f, on_pair, &c);
-	fclose(f);
-	if (c.rc < 0)
+	/* the first fault is either the refused key or a syntax error before it */
+	if (c.rc < 0 && key_line(f, c.section, c.name) == line) {
+		fclose(f);
 		return hl_config_set(cfg, c.section, c.name, c.value, path, line, err);
-	if (line != 0) {
+	}
+	fclose(f);
+	if (line != 0 || c.rc < 0) {
 		if (err)
 			snprintf(err->msg, sizeof(err->msg),
 				 "'%s':%d: expected [section], key = value, or a ; comment", path,

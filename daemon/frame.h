@@ -42,7 +42,10 @@ struct hl_frame_header {
 	uint64_t cycle_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's complete cycles in this frame */
 	uint8_t counter[HL_FRAME_MAX_LAMPS]; /* each lamp's alive counter */
 	uint8_t n_lamps;
-	uint8_t reserved[29];
+	uint8_t reserved0[5];
+	/* CLOCK_MONOTONIC ns: when each lamp's newest complete cycle completed */
+	int64_t t_lamp_done_ns[HL_FRAME_MAX_LAMPS];
+	uint8_t reserved[8];
 };
 
 _Static_assert(sizeof(struct hl_frame_header) == 128, "the wire header is 128 bytes");

@@ -17,6 +17,9 @@
 #include "daemon/can_input.h"
 #include "daemon/capture.h"
 #include "daemon/frame_pool.h"
+#include "daemon/gpio.h"
+#include "daemon/http.h"
+#include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/stream.h"
 #include "tools/preset.h"
@@ -35,6 +38,11 @@ struct live {
 	struct hl_pipeline *pipe;
 	struct hl_stream *stream;
 	struct hl_can_input *in;
+	struct hl_gpio *gpio;
+	struct hl_http *http;
+	struct hl_frame_exr_info exr_info; /* camera and lamp poses for /frame.exr */
+	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
+	int64_t watchdog_last_ns; /* render thread's */
 	pthread_mutex_t capture_lock;
 	uint64_t captures, capture_errors, reloads;
 };
@@ -59,6 +67,20 @@ static void on_published(void *ud, const struct hl_frame *f)
 	(void)f;
 	if (lv->stream)
 		hl_stream_wake(lv->stream);
+	if (lv->gpio)
+		hl_gpio_strobe(lv->gpio); /* counted in the gpio's counters, errors too */
+}
+
+/* Render thread hook, every loop turn: the watchdog proves the render loop runs. */
+static void on_alive(void *ud)
+{
+	struct live *lv = ud;
+	const int64_t now = hl_monotonic_ns();
+
+	if (lv->watchdog_us && now - lv->watchdog_last_ns >= (int64_t)lv->watchdog_us * 1000) {
+		hl_notify_watchdog();
+		lv->watchdog_last_ns = now;
+	}
 }
 
 /* The fail-safe preset's raw values per lamp, or NULL when the mode is not a preset. */
@@ -117,7 +139,7 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 	hl_ring_counts(lv->ring, &rc);
 	hl_frame_pool_counts(lv->pool, &fc);
 	fprintf(f,
-		"{\"renderer\":\"%s\",\"input\":{\"source\":\"%s\",\"link\":\"%s\",\"bus\":\"%s\"},\"lamps\":{",
+		"{\"renderer\":\"%s\",\"input\":{\"source\":\"%s\",\"link\":\"%s\",\"bus\":\"%s\"},\"lamps\":[",
 		hl_pipeline_describe(lv->pipe),
 		lv->cfg.interface[0] ? lv->cfg.interface : lv->cfg.replay,
 		st.link_up ? "up" : "down", st.bus);
@@ -125,7 +147,7 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 		const struct hl_lamp_counters *c = &st.lamps[l];
 
 		fprintf(f,
-			"%s\"%s\":{\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
+			"%s{\"name\":\"%s\",\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
 			",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
 			",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
 			",\"stale_events\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64 "}",
@@ -135,22 +157,32 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 			c->stale_events, pc.failsafe_frames[l]);
 	}
 	fprintf(f,
-		"},\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
+		"],\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
 		",\"published\":%" PRIu64 ",\"not_published\":%" PRIu64
 		",\"render_ms_last\":%.3f,\"render_ms_max\":%.3f},"
 		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
 		",\"dropped\":%" PRIu64 "},\"stream\":{\"clients\":%" PRIu64
 		",\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64 "},\"captures\":%" PRIu64
-		",\"reloads\":%" PRIu64 "}",
+		",\"reloads\":%" PRIu64,
 		lv->cfg.failsafe == HL_FAILSAFE_HOLD ? "hold" :
 		lv->cfg.failsafe == HL_FAILSAFE_DARK ? "dark" :
 						       "preset",
 		pc.frames + pc.not_published, fc.published, pc.not_published, pc.render_ms_last,
 		pc.render_ms_max, rc.pushed, rc.consumed, rc.superseded, rc.dropped, sc.clients,
 		sc.frames_sent, sc.frames_skipped, lv->captures, lv->reloads);
+	if (lv->gpio) {
+		struct hl_gpio_counts gc;
+
+		hl_gpio_counts(lv->gpio, &gc);
+		fprintf(f,
+			",\"gpio\":{\"strobe_toggles\":%" PRIu64 ",\"strobe_errors\":%" PRIu64
+			",\"trigger_edges\":%" PRIu64 ",\"trigger_lost\":%" PRIu64 "}",
+			gc.strobe_toggles, gc.strobe_errors, gc.trigger_edges, gc.trigger_lost);
+	}
+	fputc('}', f);
 	n = ftell(f);
 	fclose(f);
-	return n >= (long)size ? -ENOSPC : (int)n;
+	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
 }
 
 int hl_live_metrics(struct live *lv, char *buf, size_t size)
@@ -230,7 +262,7 @@ int hl_live_metrics(struct live *lv, char *buf, size_t size)
 		pc.render_ms_sum, cum);
 	n = ftell(f);
 	fclose(f);
-	return n >= (long)size ? -ENOSPC : (int)n;
+	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
 }
 
 /* Writes a capture of the newest frame (any thread). */
@@ -268,6 +300,22 @@ int hl_live_capture(struct live *lv, char *path, size_t size)
 	else
 		log_msg("capture written to '%s'", path);
 	return rc;
+}
+
+/* HTTP callbacks (the server's threads; everything they read is locked or atomic). */
+static int http_status(void *ud, char *buf, size_t size)
+{
+	return hl_live_status_json(ud, buf, size);
+}
+
+static int http_metrics(void *ud, char *buf, size_t size)
+{
+	return hl_live_metrics(ud, buf, size);
+}
+
+static int http_capture(void *ud, char *path, size_t size)
+{
+	return hl_live_capture(ud, path, size);
 }
 
 /* SIGHUP: re-read the configuration; the CAN thread runs on, so no cycle is lost. */
@@ -384,7 +432,9 @@ static int setup(struct live *lv)
 			log_msg("'%s': %s", icfg.iface ? icfg.iface : icfg.replay, strerror(-rc));
 	}
 	if (rc == 0) {
-		struct hl_pipeline_hooks hooks = { .userdata = lv, .published = on_published };
+		struct hl_pipeline_hooks hooks = { .userdata = lv,
+						   .published = on_published,
+						   .alive = on_alive };
 
 		rc = hl_pipeline_new(&lv->cfg, lv->lids, n, (const uint8_t *const *)dims, lv->ring,
 				     hl_can_input_wake_fd(lv->in), lv->pool, &hooks, &lv->pipe);
@@ -395,6 +445,19 @@ static int setup(struct live *lv)
 	free(dims[1]);
 	if (rc < 0)
 		return rc;
+	if (lv->cfg.gpio_chip[0]) {
+		struct hl_gpio_error gerr;
+
+		rc = hl_gpio_new(lv->cfg.gpio_chip, lv->cfg.gpio_strobe, lv->cfg.gpio_trigger,
+				 lv->cfg.gpio_trigger_edge, lv->cfg.gpio_ecu_enable, &lv->gpio,
+				 &gerr);
+		if (rc < 0) {
+			log_msg("gpio: %s", gerr.msg);
+			return rc;
+		}
+	}
+	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
+		lv->watchdog_us = 0;
 	rc = hl_pipeline_start(lv->pipe, err, sizeof(err));
 	if (rc < 0) {
 		log_msg("%s", err);
@@ -415,6 +478,29 @@ static int setup(struct live *lv)
 			lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
 			hl_stream_tcp_port(lv->stream));
 	}
+	if (lv->cfg.http_listen[0]) {
+		struct hl_http_sources src = {
+			.pool = lv->pool,
+			.exr_info = &lv->exr_info,
+			.userdata = lv,
+			.status_json = http_status,
+			.metrics = http_metrics,
+			.capture = http_capture,
+		};
+
+		lv->exr_info.camera = hl_pipeline_camera(lv->pipe);
+		lv->exr_info.n_lamps = lv->n_lamps;
+		for (int l = 0; l < lv->n_lamps; l++)
+			hl_lamp_pose_default(l, &lv->exr_info.lamps[l]);
+		rc = hl_http_new(lv->cfg.http_listen, lv->cfg.http_capture, &src, &lv->http);
+		if (rc < 0) {
+			log_msg("http.listen '%s': %s", lv->cfg.http_listen, strerror(-rc));
+			return rc;
+		}
+		log_msg("live view on http://%s/ (port %u)%s", lv->cfg.http_listen,
+			hl_http_port(lv->http),
+			lv->cfg.http_capture ? ", POST /capture allowed" : "");
+	}
 	rc = hl_can_input_start(lv->in);
 	if (rc < 0)
 		log_msg("cannot start the CAN thread: %s", strerror(-rc));
@@ -427,8 +513,10 @@ static void teardown(struct live *lv)
 		hl_can_input_stop(lv->in);
 	if (lv->pool)
 		hl_frame_pool_close(lv->pool);
+	hl_http_free(lv->http);
 	hl_stream_free(lv->stream);
 	hl_pipeline_free(lv->pipe);
+	hl_gpio_free(lv->gpio);
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);
 	hl_ring_free(lv->ring);
@@ -437,6 +525,24 @@ static void teardown(struct live *lv)
 	hl_assembler_free(lv->a);
 	hl_dbc_free(lv->db);
 	pthread_mutex_destroy(&lv->capture_lock);
+}
+
+/* STATUS= for systemctl status: per lamp its cycles and state, the frames. */
+static void notify_status(struct live *lv, const struct hl_input_status *st)
+{
+	struct hl_pipeline_counts pc;
+	char line[256];
+	int n = 0;
+
+	hl_pipeline_counts(lv->pipe, &pc);
+	for (int l = 0; l < lv->n_lamps && n < (int)sizeof(line); l++)
+		n += snprintf(line + n, sizeof(line) - n, "%s: %" PRIu64 " cycles%s; ",
+			      hl_assembler_lamp_name(lv->a, l), st->lamps[l].cycles,
+			      st->stale[l] ? " (stale, fail-safe)" : "");
+	if (n < (int)sizeof(line))
+		snprintf(line + n, sizeof(line) - n, "%" PRIu64 " frames, bus %s", pc.frames,
+			 st->link_up ? st->bus : "down");
+	hl_notify_status("%s", line);
 }
 
 /* Logs link and stale changes (the event loop's view, once per wake). */
@@ -461,6 +567,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 {
 	struct live lv = { .cfg = *cfg, .args = args };
 	struct hl_input_status prev = { .link_up = false };
+	int64_t status_ns = 0;
+	bool ready = false;
 	sigset_t mask;
 	int sfd, rc, code = 1;
 	char buf[1 << 16];
@@ -477,20 +585,44 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	sfd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
 	rc = sfd < 0 ? -errno : setup(&lv);
 	while (rc == 0) {
-		struct pollfd pfd = { .fd = sfd, .events = POLLIN };
+		struct pollfd pfd[2] = { { .fd = sfd, .events = POLLIN },
+					 { .fd = lv.gpio ? hl_gpio_trigger_fd(lv.gpio) : -1,
+					   .events = POLLIN } };
 		struct signalfd_siginfo si;
+		int64_t now;
 
 		log_changes(&lv, &prev);
+		now = hl_monotonic_ns();
+		/* READY once the lamps are loaded, the renderer is up and the bus is open */
+		if (!ready && prev.link_up) {
+			hl_notify_ready("running");
+			ready = true;
+		}
+		if (now - status_ns >= 1000000000) {
+			status_ns = now;
+			notify_status(&lv, &prev);
+		}
 		if (prev.done) {
 			/* a finite replay ended: let the last frame out, then stop */
 			hl_sleep_until(hl_monotonic_ns() + 200000000, NULL);
 			code = 0;
 			break;
 		}
-		if (poll(&pfd, 1, 200) <= 0 || read(sfd, &si, sizeof(si)) != sizeof(si))
+		if (poll(pfd, lv.gpio && pfd[1].fd >= 0 ? 2 : 1, 200) <= 0)
+			continue;
+		if (pfd[1].revents & POLLIN) {
+			unsigned edges = 0;
+			char path[1024];
+
+			if (hl_gpio_read_trigger(lv.gpio, &edges) == 0 && edges > 0)
+				hl_live_capture(&lv, path, sizeof(path));
+		}
+		if (!(pfd[0].revents & POLLIN) || read(sfd, &si, sizeof(si)) != sizeof(si))
 			continue;
 		if (si.ssi_signo == SIGHUP) {
+			hl_notify_reloading();
 			reload(&lv);
+			hl_notify_ready("running (reloaded)");
 		} else if (si.ssi_signo == SIGUSR1) {
 			char path[1024];
 
@@ -501,8 +633,19 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			break;
 		}
 	}
-	if (rc == 0 && hl_live_status_json(&lv, buf, sizeof(buf)) > 0)
-		printf("%s\n", buf);
+	hl_notify_stopping();
+	if (rc == 0) {
+		/* quiesce, then report: the counters no longer move */
+		hl_can_input_stop(lv.in);
+		hl_frame_pool_close(lv.pool);
+		hl_http_free(lv.http);
+		lv.http = NULL;
+		hl_pipeline_stop(lv.pipe);
+		if (lv.stream)
+			hl_stream_stop(lv.stream);
+		if (hl_live_status_json(&lv, buf, sizeof(buf)) > 0)
+			printf("%s\n", buf);
+	}
 	teardown(&lv);
 	if (sfd >= 0)
 		close(sfd);

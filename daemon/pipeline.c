@@ -56,7 +56,7 @@ struct hl_pipeline {
 	/* start-up handshake */
 	pthread_cond_t up;
 	int start_rc; /* 1 while starting */
-	char start_err[256];
+	char start_err[512];
 };
 
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
@@ -330,6 +330,7 @@ static void render(struct hl_pipeline *p)
 			memcpy(f->dist[l], hl_renderer_distribution(p->r, l),
 			       sizeof(float) * (size_t)g->width * g->height);
 			f->hdr.cycle_seq[l] = s->lamps[l].cycle_seq;
+			f->hdr.t_lamp_done_ns[l] = s->lamps[l].t_complete_mono_ns;
 			f->hdr.counter[l] = s->lamps[l].counter;
 		}
 		f->hdr.flags = flags;

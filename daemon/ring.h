@@ -35,6 +35,7 @@ struct hl_lamp_snapshot {
 	uint64_t cycle_seq; /* complete cycles of this lamp so far */
 	int64_t t_rx_first_ns; /* kernel receive time of the cycle's first frame */
 	int64_t t_complete_ns; /* when the cycle was complete, on the input's clock */
+	int64_t t_complete_mono_ns; /* the same moment on CLOCK_MONOTONIC (the push) */
 	uint32_t status; /* HL_LAMP_* */
 	uint8_t counter; /* the ECU's alive counter of the cycle */
 };

@@ -9,35 +9,18 @@
 
 #include <openexr.h>
 
+#include "render/exr_error.h"
+
+/* What a context's user data points to: the last message, and the memory sink if any. */
 struct exr_msg {
-	char text[256];
+	struct hl_exr_msg m; /* first: hl_exr_keep_message writes here */
+	struct mem_sink *mem;
 };
 
-static void keep_message(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-	void *ud = NULL;
-
-	(void)code;
-	if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
-		snprintf(((struct exr_msg *)ud)->text, sizeof(((struct exr_msg *)ud)->text), "%s",
-			 msg);
-}
-
-static int fail(struct hl_lid_error *err, int rc, const char *path, const char *fmt, ...)
-{
-	va_list ap;
-	int n;
-
-	if (!err)
-		return rc;
-	n = snprintf(err->msg, sizeof(err->msg), "'%s': ", path);
-	if (n < 0 || (size_t)n >= sizeof(err->msg))
-		return rc;
-	va_start(ap, fmt);
-	vsnprintf(err->msg + n, sizeof(err->msg) - n, fmt, ap);
-	va_end(ap);
-	return rc;
-}
+struct mem_sink {
+	uint8_t *data;
+	size_t size, cap;
+};
 
 uint16_t hl_half_from_float(float f)
 {
@@ -92,15 +75,18 @@ static exr_result_t set_attributes(exr_context_t ctxt, int part,
 	exr_result_t rv;
 	float f[16];
 
-	hl_camera_world_to_camera(info->camera, f);
-	memcpy(m.m, f, sizeof(m.m));
-	rv = exr_attr_set_m44f(ctxt, part, "worldToCamera", &m);
-	hl_camera_world_to_ndc(info->camera, f);
-	memcpy(m.m, f, sizeof(m.m));
-	if (rv == EXR_ERR_SUCCESS)
-		rv = exr_attr_set_m44f(ctxt, part, "worldToNDC", &m);
-	if (rv == EXR_ERR_SUCCESS)
-		rv = exr_attr_set_string(ctxt, part, "hdlamp:unit", unit);
+	rv = exr_attr_set_string(ctxt, part, "hdlamp:unit", unit);
+	if (!info)
+		return rv;
+	if (info->camera && rv == EXR_ERR_SUCCESS) {
+		hl_camera_world_to_camera(info->camera, f);
+		memcpy(m.m, f, sizeof(m.m));
+		rv = exr_attr_set_m44f(ctxt, part, "worldToCamera", &m);
+		hl_camera_world_to_ndc(info->camera, f);
+		memcpy(m.m, f, sizeof(m.m));
+		if (rv == EXR_ERR_SUCCESS)
+			rv = exr_attr_set_m44f(ctxt, part, "worldToNDC", &m);
+	}
 	for (int k = 0; k < info->n_lamps && rv == EXR_ERR_SUCCESS; k++) {
 		const struct hl_lamp_pose *p = &info->lamps[k];
 		exr_attr_v3f_t pos = { .x = (float)p->pos_m[0],
@@ -168,24 +154,56 @@ static exr_result_t write_chunks(exr_context_t ctxt, int width, int height,
 	return rv;
 }
 
+/* The write stream of a memory sink: the library writes at offsets, mostly appending. */
+static int64_t mem_write(exr_const_context_t ctxt, void *userdata, const void *buffer, uint64_t sz,
+			 uint64_t offset, exr_stream_error_func_ptr_t error_cb)
+{
+	struct mem_sink *m = ((struct exr_msg *)userdata)->mem;
+	const size_t end = (size_t)offset + (size_t)sz;
+
+	if (end > m->cap) {
+		size_t cap = m->cap ? m->cap : 65536;
+		uint8_t *d;
+
+		while (cap < end)
+			cap *= 2;
+		d = realloc(m->data, cap);
+		if (!d) {
+			error_cb(ctxt, EXR_ERR_OUT_OF_MEMORY, "out of memory");
+			return -1;
+		}
+		m->data = d;
+		m->cap = cap;
+	}
+	if (offset > m->size)
+		memset(m->data + m->size, 0, (size_t)offset - m->size);
+	memcpy(m->data + offset, buffer, (size_t)sz);
+	if (end > m->size)
+		m->size = end;
+	return (int64_t)sz;
+}
+
+/* To path, or into mem when it is not NULL (path then only names it in messages). */
 static int write_file(const char *path, int width, int height, const struct channel *ch, int n_ch,
 		      const struct hl_frame_exr_info *info, const char *unit,
-		      struct hl_lid_error *err)
+		      struct hl_lid_error *err, struct mem_sink *mem)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct exr_msg msg = { "" };
+	struct exr_msg msg = { { "" }, mem };
 	exr_context_t ctxt;
 	exr_result_t rv;
 	int part, rc = 0;
 
-	if (width < 1 || height < 1 || info->n_lamps < 0 || info->n_lamps > 2)
-		return fail(err, -EINVAL, path, "bad image size or lamp count");
-	init.error_handler_fn = keep_message;
+	if (width < 1 || height < 1 || (info && (info->n_lamps < 0 || info->n_lamps > 2)))
+		return hl_exr_fail(err, -EINVAL, path, "bad image size or lamp count");
+	init.error_handler_fn = hl_exr_keep_message;
 	init.user_data = &msg;
-	rv = exr_start_write(&ctxt, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+	if (mem)
+		init.write_fn = mem_write;
+	rv = exr_start_write(&ctxt, path,
+			     mem ? EXR_WRITE_FILE_DIRECTLY : EXR_INTERMEDIATE_TEMP_FILE, &init);
 	if (rv != EXR_ERR_SUCCESS)
-		return fail(err, -EIO, path, "cannot create (%s)",
-			    msg.text[0] ? msg.text : exr_get_default_error_message(rv));
+		return hl_exr_fail(err, -EIO, path, "cannot create (%s)", hl_exr_why(rv, &msg.m));
 	rv = exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_initialize_required_attr_simple(ctxt, part, width, height,
@@ -200,11 +218,11 @@ static int write_file(const char *path, int width, int height, const struct chan
 	if (rv == EXR_ERR_SUCCESS)
 		rv = write_chunks(ctxt, width, height, ch, n_ch);
 	if (rv != EXR_ERR_SUCCESS)
-		rc = fail(err, -EIO, path, "cannot write (%s)",
-			  msg.text[0] ? msg.text : exr_get_default_error_message(rv));
+		rc = hl_exr_fail(err, -EIO, path, "cannot write (%s)", hl_exr_why(rv, &msg.m));
 	rv = exr_finish(&ctxt);
 	if (rc == 0 && rv != EXR_ERR_SUCCESS)
-		rc = fail(err, -EIO, path, "cannot finish (%s)", exr_get_default_error_message(rv));
+		rc = hl_exr_fail(err, -EIO, path, "cannot finish (%s)",
+				 exr_get_default_error_message(rv));
 	return rc;
 }
 
@@ -218,12 +236,12 @@ int hl_frame_exr_write_hdr(const char *path, int width, int height, const float 
 	int rc;
 
 	if (!half)
-		return fail(err, -ENOMEM, path, "out of memory");
+		return hl_exr_fail(err, -ENOMEM, path, "out of memory");
 	for (size_t i = 0; i < n; i++)
 		half[i] = hl_half_from_float(rgba[i]);
 	for (int c = 0; c < 4; c++)
 		ch[c] = (struct channel){ names[c], EXR_PIXEL_HALF, half + c, 8 };
-	rc = write_file(path, width, height, ch, 4, info, "cd/m2", err);
+	rc = write_file(path, width, height, ch, 4, info, "cd/m2", err, NULL);
 	free(half);
 	return rc;
 }
@@ -233,5 +251,23 @@ int hl_frame_exr_write_lux(const char *path, int width, int height, const float 
 {
 	const struct channel ch = { "E", EXR_PIXEL_FLOAT, lux, 4 };
 
-	return write_file(path, width, height, &ch, 1, info, "lx", err);
+	return write_file(path, width, height, &ch, 1, info, "lx", err, NULL);
+}
+
+int hl_frame_exr_encode_lux(int width, int height, const float *lux,
+			    const struct hl_frame_exr_info *info, uint8_t **ret_data,
+			    size_t *ret_size, struct hl_lid_error *err)
+{
+	const struct channel ch = { "E", EXR_PIXEL_FLOAT, lux, 4 };
+	struct mem_sink mem = { 0 };
+	int rc;
+
+	rc = write_file("(memory)", width, height, &ch, 1, info, "lx", err, &mem);
+	if (rc < 0) {
+		free(mem.data);
+		return rc;
+	}
+	*ret_data = mem.data;
+	*ret_size = mem.size;
+	return 0;
 }

@@ -12,6 +12,7 @@
 #ifndef HL_RENDER_FRAME_EXR_H
 #define HL_RENDER_FRAME_EXR_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "render/camera.h"
@@ -35,6 +36,15 @@ int hl_frame_exr_write_hdr(const char *path, int width, int height, const float 
 /* lux: one float per pixel. */
 int hl_frame_exr_write_lux(const char *path, int width, int height, const float *lux,
 			   const struct hl_frame_exr_info *info, struct hl_lid_error *err);
+
+/*
+ * The lux image as an EXR file in memory (for HTTP): *ret_data is malloc'd (the caller frees
+ * it), *ret_size bytes; both untouched on failure. info may be NULL, and info->camera may be
+ * NULL: those attributes are then left out. 0, -EINVAL, -EIO, -ENOMEM.
+ */
+int hl_frame_exr_encode_lux(int width, int height, const float *lux,
+			    const struct hl_frame_exr_info *info, uint8_t **ret_data,
+			    size_t *ret_size, struct hl_lid_error *err);
 
 /* IEEE binary16 of f, rounded to nearest even; overflow gives infinity. */
 uint16_t hl_half_from_float(float f);

@@ -17,42 +17,9 @@
 
 #include <openexr.h>
 
+#include "render/exr_error.h"
+
 #define SCRATCH_BYTES (16u << 20) /* decode buffer for a batch of channels */
-
-struct exr_msg {
-	char text[256];
-};
-
-static void keep_exr_message(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-	void *ud = NULL;
-
-	(void)code;
-	if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
-		snprintf(((struct exr_msg *)ud)->text, sizeof(((struct exr_msg *)ud)->text), "%s",
-			 msg);
-}
-
-static int fail(struct hl_lid_error *err, int rc, const char *path, const char *fmt, ...)
-{
-	va_list ap;
-	int n;
-
-	if (!err)
-		return rc;
-	n = snprintf(err->msg, sizeof(err->msg), "'%s': ", path);
-	if (n < 0 || (size_t)n >= sizeof(err->msg))
-		return rc;
-	va_start(ap, fmt);
-	vsnprintf(err->msg + n, sizeof(err->msg) - n, fmt, ap);
-	va_end(ap);
-	return rc;
-}
-
-static const char *exr_why(exr_result_t rv, const struct exr_msg *m)
-{
-	return m->text[0] ? m->text : exr_get_default_error_message(rv);
-}
 
 /* Reads a string attribute into buf; 0, -ENOENT (absent), -EBADMSG (wrong type or too long). */
 static int get_string(exr_context_t ctxt, const char *name, char *buf, size_t size)
@@ -77,11 +44,11 @@ static int get_range(exr_context_t ctxt, const char *path, const char *name, flo
 	exr_result_t rv = exr_attr_get_v2f(ctxt, 0, name, &v);
 
 	if (rv == EXR_ERR_NO_ATTR_BY_NAME)
-		return fail(err, -EBADMSG, path,
-			    "attribute '%s' (v2f: first and last sample, degrees) is missing",
-			    name);
+		return hl_exr_fail(
+			err, -EBADMSG, path,
+			"attribute '%s' (v2f: first and last sample, degrees) is missing", name);
 	if (rv != EXR_ERR_SUCCESS)
-		return fail(err, -EBADMSG, path, "attribute '%s' must be a v2f", name);
+		return hl_exr_fail(err, -EBADMSG, path, "attribute '%s' must be a v2f", name);
 	*first = v.x;
 	*last = v.y;
 	return 0;
@@ -94,28 +61,30 @@ static int check_channels(const exr_attr_chlist_t *cl, const char *path, bool *r
 	const int n = cl->num_channels;
 
 	if (n < 1)
-		return fail(err, -EBADMSG, path, "no channels");
+		return hl_exr_fail(err, -EBADMSG, path, "no channels");
 	*ret_combined = n == 1 && strcmp(cl->entries[0].name.str, "I") == 0;
 	if (n > HL_LID_MAX_SOURCES)
-		return fail(err, -EBADMSG, path, "%d channels; at most %d sources are supported", n,
-			    HL_LID_MAX_SOURCES);
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "%d channels; at most %d sources are supported", n,
+				   HL_LID_MAX_SOURCES);
 	for (int i = 0; i < n; i++) {
 		const exr_attr_chlist_entry_t *e = &cl->entries[i];
 		char want[16];
 
 		snprintf(want, sizeof(want), "src%04d", i + 1);
 		if (!*ret_combined && strcmp(e->name.str, want) != 0)
-			return fail(
+			return hl_exr_fail(
 				err, -EBADMSG, path,
 				"channel '%s' where '%s' was expected (sources are src0001..src%04d, contiguous)",
 				e->name.str, want, n);
 		if (e->pixel_type != EXR_PIXEL_HALF && e->pixel_type != EXR_PIXEL_FLOAT)
-			return fail(err, -EBADMSG, path,
-				    "channel '%s' is UINT; expected HALF or FLOAT", e->name.str);
+			return hl_exr_fail(err, -EBADMSG, path,
+					   "channel '%s' is UINT; expected HALF or FLOAT",
+					   e->name.str);
 		if (e->x_sampling != 1 || e->y_sampling != 1)
-			return fail(err, -EBADMSG, path,
-				    "channel '%s' is subsampled (%d, %d); expected 1, 1",
-				    e->name.str, e->x_sampling, e->y_sampling);
+			return hl_exr_fail(err, -EBADMSG, path,
+					   "channel '%s' is subsampled (%d, %d); expected 1, 1",
+					   e->name.str, e->x_sampling, e->y_sampling);
 	}
 	return 0;
 }
@@ -128,18 +97,20 @@ static int read_header(exr_context_t ctxt, const char *path, struct hl_lid_grid 
 
 	rc = get_string(ctxt, "hdlamp:angles", s, sizeof(s));
 	if (rc == -ENOENT)
-		return fail(err, -EBADMSG, path,
-			    "attribute 'hdlamp:angles' (string A or B) is missing");
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "attribute 'hdlamp:angles' (string A or B) is missing");
 	if (rc < 0 || (strcmp(s, "A") != 0 && strcmp(s, "B") != 0))
-		return fail(err, -EBADMSG, path,
-			    "attribute 'hdlamp:angles' must be the string A or B");
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "attribute 'hdlamp:angles' must be the string A or B");
 	g->angles = s[0] == 'A' ? HL_ANGLES_A : HL_ANGLES_B;
 
 	rc = get_string(ctxt, "hdlamp:unit", s, sizeof(s));
 	if (rc == -ENOENT)
-		return fail(err, -EBADMSG, path, "attribute 'hdlamp:unit' (string cd) is missing");
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "attribute 'hdlamp:unit' (string cd) is missing");
 	if (rc < 0 || strcmp(s, "cd") != 0)
-		return fail(err, -EBADMSG, path, "attribute 'hdlamp:unit' must be the string cd");
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "attribute 'hdlamp:unit' must be the string cd");
 
 	rc = get_range(ctxt, path, "hdlamp:h", &g->h_first_deg, &g->h_last_deg, err);
 	if (rc < 0)
@@ -148,7 +119,7 @@ static int read_header(exr_context_t ctxt, const char *path, struct hl_lid_grid 
 	if (rc < 0)
 		return rc;
 	if (hl_lid_grid_check(g) < 0)
-		return fail(
+		return hl_exr_fail(
 			err, -EINVAL, path,
 			"inconsistent grid: %d x %d samples, hdlamp:h (%g, %g), hdlamp:v (%g, %g); expected at least 2 x 2 samples, first < last, H within ±180°, V within ±90°",
 			g->width, g->height, g->h_first_deg, g->h_last_deg, g->v_first_deg,
@@ -168,7 +139,8 @@ static int read_names(exr_context_t ctxt, const char *path, struct hl_lid *lid,
 	if (rv == EXR_ERR_NO_ATTR_BY_NAME)
 		return 0;
 	if (rv != EXR_ERR_SUCCESS)
-		return fail(err, -EBADMSG, path, "attribute 'hdlamp:sourceNames' must be a string");
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "attribute 'hdlamp:sourceNames' must be a string");
 	for (int32_t i = 0; i <= len; k++) {
 		int32_t j = i;
 		char name[256];
@@ -176,7 +148,7 @@ static int read_names(exr_context_t ctxt, const char *path, struct hl_lid *lid,
 		while (j < len && s[j] != '\n')
 			j++;
 		if (k >= n || j - i >= (int32_t)sizeof(name))
-			return fail(
+			return hl_exr_fail(
 				err, -EBADMSG, path,
 				"attribute 'hdlamp:sourceNames' must hold %d names of < 256 bytes, one per line",
 				n);
@@ -184,12 +156,13 @@ static int read_names(exr_context_t ctxt, const char *path, struct hl_lid *lid,
 		name[j - i] = '\0';
 		rc = hl_lid_set_name(lid, k, name);
 		if (rc < 0)
-			return fail(err, rc, path, "cannot store source names");
+			return hl_exr_fail(err, rc, path, "cannot store source names");
 		i = j + 1;
 	}
 	if (k != n)
-		return fail(err, -EBADMSG, path,
-			    "attribute 'hdlamp:sourceNames' holds %d names; %d sources", k, n);
+		return hl_exr_fail(err, -EBADMSG, path,
+				   "attribute 'hdlamp:sourceNames' holds %d names; %d sources", k,
+				   n);
 	return 0;
 }
 
@@ -203,7 +176,7 @@ struct reader {
 	float *scratch;
 	struct hl_lid_box *boxes;
 	float **packed;
-	struct exr_msg *msg;
+	struct hl_exr_msg *msg;
 	struct hl_lid_error *err;
 };
 
@@ -217,7 +190,7 @@ static int scan_block(struct reader *r, int k, int row0, int nrows, const float 
 			float s = block[(size_t)y * g->width + x];
 
 			if (!isfinite(s) || s < 0.0f)
-				return fail(
+				return hl_exr_fail(
 					r->err, -EBADMSG, r->path,
 					"channel %d, sample at H %.2f°, V %.2f° is %g; expected a finite value >= 0 cd",
 					k + 1, hl_lid_grid_h_deg(g, x),
@@ -273,8 +246,8 @@ static int read_pass(struct reader *r, int pass)
 			rv = have_dec ? exr_decoding_update(r->ctxt, 0, &cinfo, &dec) :
 					exr_decoding_initialize(r->ctxt, 0, &cinfo, &dec);
 		if (rv != EXR_ERR_SUCCESS) {
-			rc = fail(r->err, -EBADMSG, r->path, "chunk at row %d: %s", y,
-				  exr_why(rv, r->msg));
+			rc = hl_exr_fail(r->err, -EBADMSG, r->path, "chunk at row %d: %s", y,
+					 hl_exr_why(rv, r->msg));
 			break;
 		}
 		have_dec = true;
@@ -298,8 +271,8 @@ static int read_pass(struct reader *r, int pass)
 			if (rv == EXR_ERR_SUCCESS)
 				rv = exr_decoding_run(r->ctxt, 0, &dec);
 			if (rv != EXR_ERR_SUCCESS) {
-				rc = fail(r->err, -EBADMSG, r->path, "chunk at row %d: %s", y,
-					  exr_why(rv, r->msg));
+				rc = hl_exr_fail(r->err, -EBADMSG, r->path, "chunk at row %d: %s",
+						 y, hl_exr_why(rv, r->msg));
 				break;
 			}
 			for (int c = c0; c < c1 && rc == 0; c++) {
@@ -366,7 +339,7 @@ out:
 int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct exr_msg msg = { "" };
+	struct hl_exr_msg msg = { "" };
 	struct reader r = { .path = path, .msg = &msg, .err = err };
 	const exr_attr_chlist_t *cl = NULL;
 	struct hl_lid_grid grid = { 0 };
@@ -378,33 +351,34 @@ int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err)
 	bool combined = false;
 
 	if (stat(path, &st) < 0)
-		return fail(err, -errno, path, "%s", strerror(errno));
+		return hl_exr_fail(err, -errno, path, "%s", strerror(errno));
 	if (!S_ISREG(st.st_mode))
-		return fail(err, -EBADMSG, path, "not a regular file");
+		return hl_exr_fail(err, -EBADMSG, path, "not a regular file");
 
-	init.error_handler_fn = keep_exr_message;
+	init.error_handler_fn = hl_exr_keep_message;
 	init.user_data = &msg;
 	init.flags = EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
 	rv = exr_start_read(&r.ctxt, path, &init);
 	if (rv != EXR_ERR_SUCCESS) {
-		rc = fail(err, -EBADMSG, path, "not a readable OpenEXR file (%s)",
-			  exr_why(rv, &msg));
+		rc = hl_exr_fail(err, -EBADMSG, path, "not a readable OpenEXR file (%s)",
+				 hl_exr_why(rv, &msg));
 		goto err_finish;
 	}
 	if (exr_get_count(r.ctxt, &parts) != EXR_ERR_SUCCESS || parts != 1) {
-		rc = fail(err, -EBADMSG, path, "%d parts; expected one scanline part", parts);
+		rc = hl_exr_fail(err, -EBADMSG, path, "%d parts; expected one scanline part",
+				 parts);
 		goto err_finish;
 	}
 	if (exr_get_storage(r.ctxt, 0, &storage) != EXR_ERR_SUCCESS ||
 	    storage != EXR_STORAGE_SCANLINE) {
-		rc = fail(err, -EBADMSG, path, "tiled or deep image; expected scanlines");
+		rc = hl_exr_fail(err, -EBADMSG, path, "tiled or deep image; expected scanlines");
 		goto err_finish;
 	}
 	if (exr_get_data_window(r.ctxt, 0, &dw) != EXR_ERR_SUCCESS ||
 	    exr_get_channels(r.ctxt, 0, &cl) != EXR_ERR_SUCCESS ||
 	    exr_get_scanlines_per_chunk(r.ctxt, 0, &r.lines) != EXR_ERR_SUCCESS || r.lines < 1) {
-		rc = fail(err, -EBADMSG, path, "incomplete header (%s)",
-			  exr_why(EXR_ERR_INVALID_ATTR, &msg));
+		rc = hl_exr_fail(err, -EBADMSG, path, "incomplete header (%s)",
+				 hl_exr_why(EXR_ERR_INVALID_ATTR, &msg));
 		goto err_finish;
 	}
 	grid.width = dw.max.x - dw.min.x + 1;
@@ -418,7 +392,7 @@ int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err)
 		goto err_finish;
 	rc = hl_lid_new(cl->num_channels, &grid, combined, &r.lid);
 	if (rc < 0) {
-		rc = fail(err, rc, path, "cannot hold %d sources", cl->num_channels);
+		rc = hl_exr_fail(err, rc, path, "cannot hold %d sources", cl->num_channels);
 		goto err_finish;
 	}
 	rc = read_names(r.ctxt, path, r.lid, err);
@@ -427,7 +401,7 @@ int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err)
 	rc = read_data(&r);
 	if (rc < 0) {
 		if (rc == -ENOMEM)
-			fail(err, rc, path, "out of memory");
+			hl_exr_fail(err, rc, path, "out of memory");
 		goto err_free;
 	}
 	exr_finish(&r.ctxt);
@@ -546,7 +520,7 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 	const struct hl_lid_grid *g = hl_lid_grid(lid);
 	const int n = hl_lid_n_sources(lid);
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct exr_msg msg = { "" };
+	struct hl_exr_msg msg = { "" };
 	struct writer wr = { .lid = lid, .dense = dense };
 	exr_attr_v2f_t h = { .x = g->h_first_deg, .y = g->h_last_deg };
 	exr_attr_v2f_t v = { .x = g->v_first_deg, .y = g->v_last_deg };
@@ -554,11 +528,11 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 	exr_result_t rv;
 	int part, rc = 0;
 
-	init.error_handler_fn = keep_exr_message;
+	init.error_handler_fn = hl_exr_keep_message;
 	init.user_data = &msg;
 	rv = exr_start_write(&wr.ctxt, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
 	if (rv != EXR_ERR_SUCCESS)
-		return fail(err, -EIO, path, "cannot create (%s)", exr_why(rv, &msg));
+		return hl_exr_fail(err, -EIO, path, "cannot create (%s)", hl_exr_why(rv, &msg));
 	rv = exr_add_part(wr.ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_initialize_required_attr_simple(wr.ctxt, part, g->width, g->height,
@@ -589,25 +563,25 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_get_scanlines_per_chunk(wr.ctxt, part, &wr.lines);
 	if (rv != EXR_ERR_SUCCESS) {
-		rc = fail(err, -EIO, path, "cannot write header (%s)", exr_why(rv, &msg));
+		rc = hl_exr_fail(err, -EIO, path, "cannot write header (%s)", hl_exr_why(rv, &msg));
 		goto out;
 	}
 	wr.zeros = calloc((size_t)wr.lines * g->width, sizeof(float));
 	wr.scratch = dense ? NULL : malloc(sizeof(float) * (size_t)n * wr.lines * g->width);
 	if (!wr.zeros || (!dense && !wr.scratch)) {
-		rc = fail(err, -ENOMEM, path, "out of memory");
+		rc = hl_exr_fail(err, -ENOMEM, path, "out of memory");
 		goto out;
 	}
 	rv = write_chunks(&wr);
 	if (rv != EXR_ERR_SUCCESS)
-		rc = fail(err, -EIO, path, "cannot write pixels (%s)", exr_why(rv, &msg));
+		rc = hl_exr_fail(err, -EIO, path, "cannot write pixels (%s)", hl_exr_why(rv, &msg));
 out:
 	free(names);
 	free((void *)wr.zeros);
 	free(wr.scratch);
 	rv = exr_finish(&wr.ctxt);
 	if (rc == 0 && rv != EXR_ERR_SUCCESS)
-		rc = fail(err, -EIO, path, "cannot finish (%s)", exr_why(rv, &msg));
+		rc = hl_exr_fail(err, -EIO, path, "cannot finish (%s)", hl_exr_why(rv, &msg));
 	return rc;
 }
 
@@ -623,7 +597,7 @@ int hl_lid_write_combined(const struct hl_lid_grid *grid, const float *dense, co
 	int rc = hl_lid_new(1, grid, true, &lid);
 
 	if (rc < 0)
-		return fail(err, rc, path, "invalid grid");
+		return hl_exr_fail(err, rc, path, "invalid grid");
 	rc = write_file(lid, dense, path, err);
 	hl_lid_free(lid);
 	return rc;

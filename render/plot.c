@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <math.h>
 #include <png.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +61,76 @@ int hl_png_write_rgb(const char *path, const uint8_t *rgb, int w, int h)
 	png_write_end(png, NULL);
 	png_destroy_write_struct(&png, &info);
 	return fclose(f) == 0 ? 0 : -EIO;
+}
+
+struct png_mem {
+	uint8_t *data;
+	size_t size, cap;
+	bool failed;
+};
+
+static void png_mem_write(png_structp png, png_bytep bytes, png_size_t n)
+{
+	struct png_mem *m = png_get_io_ptr(png);
+
+	if (m->failed)
+		return;
+	if (m->size + n > m->cap) {
+		size_t cap = m->cap ? m->cap : 4096;
+		uint8_t *d;
+
+		while (cap < m->size + n)
+			cap *= 2;
+		d = realloc(m->data, cap);
+		if (!d) {
+			m->failed = true;
+			return;
+		}
+		m->data = d;
+		m->cap = cap;
+	}
+	memcpy(m->data + m->size, bytes, n);
+	m->size += n;
+}
+
+static void png_mem_flush(png_structp png)
+{
+	(void)png;
+}
+
+int hl_png_encode_rgb(const uint8_t *rgb, int w, int h, size_t stride, uint8_t **ret_data,
+		      size_t *ret_size)
+{
+	struct png_mem m = { 0 };
+	png_structp png;
+	png_infop info;
+
+	if (w < 1 || h < 1 || stride < (size_t)w * 3)
+		return -EINVAL;
+	png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+	info = png ? png_create_info_struct(png) : NULL;
+	if (!png || !info || setjmp(png_jmpbuf(png))) {
+		png_destroy_write_struct(&png, &info);
+		free(m.data);
+		return -EIO;
+	}
+	png_set_write_fn(png, &m, png_mem_write, png_mem_flush);
+	/* Live frames: speed over size (level 1 is ~3x faster than the default here). */
+	png_set_compression_level(png, 1);
+	png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+		     PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+	png_write_info(png, info);
+	for (int y = 0; y < h; y++)
+		png_write_row(png, (png_const_bytep)(rgb + (size_t)y * stride));
+	png_write_end(png, NULL);
+	png_destroy_write_struct(&png, &info);
+	if (m.failed) {
+		free(m.data);
+		return -ENOMEM;
+	}
+	*ret_data = m.data;
+	*ret_size = m.size;
+	return 0;
 }
 
 struct canvas {

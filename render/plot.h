@@ -7,6 +7,7 @@
 #ifndef HL_RENDER_PLOT_H
 #define HL_RENDER_PLOT_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "render/lid.h"
@@ -16,6 +17,12 @@ void hl_plot_colour(float t, uint8_t ret_rgb[3]);
 
 /* Writes an RGB8 image as PNG. 0 or -errno (-EIO when libpng fails). */
 int hl_png_write_rgb(const char *path, const uint8_t *rgb, int w, int h);
+/*
+ * The same PNG into memory: rows of stride bytes (>= 3 * w). *ret_data is malloc'd (the caller
+ * frees it) and holds *ret_size bytes; both untouched on failure. 0, -EINVAL, -ENOMEM, -EIO.
+ */
+int hl_png_encode_rgb(const uint8_t *rgb, int w, int h, size_t stride, uint8_t **ret_data,
+		      size_t *ret_size);
 
 /* Draws dense (grid layout, cd) with title to path. 0, -ENOMEM, -EIO, -errno. */
 int hl_plot_lid_png(const struct hl_lid_grid *g, const float *dense, const char *title,

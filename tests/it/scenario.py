@@ -67,3 +67,29 @@ def check_against_expectation(cycles, summary, expect_cycles, expect_counters):
 def hdlampd(*args, **kw):
     return subprocess.run([HDLAMPD, *[str(a) for a in args]], capture_output=True, text=True,
                           **kw)
+
+
+def lamp_status(status, name):
+    """A lamp's entry in hdlampd's live status (a list of lamps, each with its name)."""
+    return next(l for l in status["lamps"] if l["name"] == name)
+
+
+def check_failsafe_frames(hs, timeout_ms=100, tol_ms=20):
+    """Frame headers (streamclient) around the scenario's silence: each lamp's fail-safe is
+    entered timeout ± tol after its last cycle (both times from the header, CLOCK_MONOTONIC),
+    and every frame showing a newer cycle of that lamp has it off. Returns the gaps in ms."""
+    gaps = []
+    for bit, key, done in ((0b10, "cycle_seq_left", "t_lamp_done_left"),
+                           (0b1000, "cycle_seq_right", "t_lamp_done_right")):
+        starts = [i for i, h in enumerate(hs)
+                  if h["flags"] & bit and h[key] > 0 and (i == 0 or not hs[i - 1]["flags"] & bit)]
+        # the silence: a fail-safe after a cycle that a newer cycle ends (not the start-up,
+        # not the end of the replay)
+        silence = [i for i in starts if any(h[key] > hs[i][key] for h in hs[i:])]
+        assert silence, f"{key}: no fail-safe between two cycles"
+        on = silence[-1]
+        gap_ms = (hs[on]["t_cycle_done_ns"] - hs[on][done]) / 1e6
+        assert timeout_ms - tol_ms <= gap_ms <= timeout_ms + tol_ms, (key, gap_ms)
+        assert all(not h["flags"] & bit for h in hs[on:] if h[key] > hs[on][key]), key
+        gaps.append(round(gap_ms, 1))
+    return gaps

@@ -2,12 +2,12 @@
 import socket
 import struct
 
-HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB29x")
+HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2q8x")
 MAGIC = 0x524C4448
 FIELDS = ("magic", "version", "header_size", "seq", "width", "height", "stride", "pixel_format",
           "payload_size", "flags", "t_cycle_rx_ns", "t_cycle_done_ns", "t_render_start_ns",
           "t_render_done_ns", "t_sent_ns", "cycle_seq_left", "cycle_seq_right", "counter_left",
-          "counter_right", "n_lamps")
+          "counter_right", "n_lamps", "t_lamp_done_left", "t_lamp_done_right")
 assert HEADER.size == 128
 
 

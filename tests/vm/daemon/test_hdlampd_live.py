@@ -11,7 +11,7 @@ import can
 
 from pngread import read_png
 from proc import run
-from scenario import HDLAMPD, dbc_path, generate
+from scenario import HDLAMPD, check_failsafe_frames, lamp_status, dbc_path, generate
 from streamclient import connect, read_frame
 
 SIZE = (64, 36)
@@ -61,7 +61,7 @@ def test_live_render_on_vcan0_frames_match_and_failsafe(hdlamp, tmp_path):
 
     for lamp in ("left", "right"):
         for key in ("cycles", "crc_errors", "incomplete", "lost_cycles"):
-            assert status["lamps"][lamp][key] == counters[lamp][key], (lamp, key)
+            assert lamp_status(status, lamp)[key] == counters[lamp][key], (lamp, key)
     hs = [h for h, _ in frames]
     seqs = [h["seq"] for h in hs]
     skipped = sum(b - a - 1 for a, b in zip(seqs, seqs[1:]))
@@ -77,19 +77,9 @@ def test_live_render_on_vcan0_frames_match_and_failsafe(hdlamp, tmp_path):
     for a, b in zip(hs, hs[1:]):
         assert a["t_render_done_ns"] <= b["t_render_start_ns"]
 
-    # the silence: each lamp's fail-safe 100 ms (± 20 ms) after its last cycle, off with the next
-    for lamp, bit, key in ((0, 0b10, "cycle_seq_left"), (1, 0b1000, "cycle_seq_right")):
-        starts = [i for i, h in enumerate(hs)
-                  if h["flags"] & bit and i > 0 and not hs[i - 1]["flags"] & bit
-                  and h[key] > 0]
-        silence = [i for i in starts if any(h[key] == hs[i][key] + 1 for h in hs[i:])]
-        on = silence[-1]
-        last_cycle = min(h["t_cycle_done_ns"] for h in hs[:on] if h[key] == hs[on][key])
-        gap_ms = (hs[on]["t_cycle_done_ns"] - last_cycle) / 1e6
-        print(f"lamp {lamp}: fail-safe on {gap_ms:.1f} ms after its last cycle")
-        assert 80 <= gap_ms <= 120
-        off = next(i for i in range(on, len(hs)) if not hs[i]["flags"] & bit)
-        assert hs[off][key] == hs[on][key] + 1
+    # the silence: each lamp's fail-safe 100 ms (± 20 ms) after its last cycle, off with the
+    # next (timed from the frame headers: frames superseded in this slow VM do not matter)
+    print(f"fail-safe on after {check_failsafe_frames(hs)} ms (left, right)")
 
     # pixels equal 'hdlamp render' of the same dimming values
     checked = 0
