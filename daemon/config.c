@@ -55,6 +55,8 @@ static const struct key keys[] = {
 	{ "render", "headlight", BACKEND, F(headlight), 0, 0, "auto | cpu | gles" },
 	{ "render", "rate_hz", DOUBLE, F(rate_hz), 0, 1000,
 	  "fixed output rate; 0 = on every new cycle" },
+	{ "render", "coalesce_ms", DOUBLE, F(coalesce_ms), 0, 20,
+	  "rate 0: wait this long at most for the other lamp's cycle, one frame for both" },
 	{ "stream", "tcp", STRING, F(stream_tcp), 0, 0,
 	  "host:port of the frame stream, empty = off" },
 	{ "stream", "unix", PATH, F(stream_unix), 0, 0,
@@ -89,6 +91,7 @@ void hl_config_defaults(struct hl_config *c)
 	c->height = 720;
 	strcpy(c->combine, "auto");
 	strcpy(c->headlight, "auto");
+	c->coalesce_ms = 2.0;
 	strcpy(c->stream_tcp, "127.0.0.1:5600");
 	c->stream_max_clients = 8;
 	strcpy(c->http_listen, "127.0.0.1:8080");

@@ -40,6 +40,7 @@ struct hl_config {
 	double exposure_ev;
 	char combine[HL_CONFIG_NAME], headlight[HL_CONFIG_NAME]; /* auto | cpu | gles */
 	double rate_hz; /* 0: render on every new complete cycle */
+	double coalesce_ms; /* rate_hz 0: wait at most this for the other lamp's cycle */
 	/* [stream] */
 	char stream_tcp[HL_CONFIG_NAME]; /* host:port or "" */
 	char stream_unix[HL_CONFIG_PATH]; /* socket path or "" */

@@ -2,6 +2,7 @@
 #include "daemon/pipeline.h"
 
 #include <errno.h>
+#include <malloc.h>
 #include <math.h>
 #include <poll.h>
 #include <pthread.h>
@@ -47,6 +48,7 @@ struct hl_pipeline {
 	enum hl_view_kind view;
 	struct hl_view_lux_opts lux_opts;
 	char describe[256];
+	uint64_t last_seq[2]; /* each lamp's cycle in the last frame rendered */
 
 	pthread_t thread;
 	bool started;
@@ -215,6 +217,17 @@ static int setup(struct hl_pipeline *p)
 		 "EGL %s, %s; combine on %s, headlight pass on %s", hl_egl_platform(p->egl),
 		 hl_egl_renderer(p->egl), hl_backend_name(hl_renderer_combine_backend(p->r)),
 		 hl_backend_name(hl_renderer_headlight_backend(p->r)));
+	/*
+	 * Both stages on the CPU (what auto picks on llvmpipe): the context has no more work, but
+	 * llvmpipe keeps what the auto choice's GLES candidates allocated (~90 MB at 1280x720)
+	 * until it goes. glibc keeps freed heap for reuse; hand that back too.
+	 */
+	if (hl_renderer_combine_backend(p->r) == HL_BACKEND_CPU &&
+	    hl_renderer_headlight_backend(p->r) == HL_BACKEND_CPU) {
+		hl_egl_free(p->egl);
+		p->egl = NULL;
+	}
+	malloc_trim(0);
 	return 0;
 }
 
@@ -290,6 +303,8 @@ static void render(struct hl_pipeline *p)
 	}
 	pthread_mutex_unlock(&p->lock);
 
+	for (int l = 0; l < p->n_lamps; l++)
+		p->last_seq[l] = s->lamps[l].cycle_seq;
 	hl_renderer_frame(p->r, f ? f->lux : p->lux);
 	if (f) {
 		switch (p->view) {
@@ -331,10 +346,52 @@ static void render(struct hl_pipeline *p)
 	record_time(p, (double)(hl_monotonic_ns() - t0) / 1e6, f != NULL, flags);
 }
 
+/*
+ * True while one lamp's cycle is new since the last frame and another lamp, live (valid, not
+ * stale), has not completed its cycle of the same ECU period yet: the ECU sends both lamps'
+ * frames within a millisecond or two, so one frame for both halves the work and shows the
+ * whole ECU cycle at once.
+ */
+static bool other_lamp_due(const struct hl_pipeline *p)
+{
+	bool advanced = false, lagging = false;
+
+	for (int l = 0; l < p->n_lamps; l++) {
+		const struct hl_lamp_snapshot *ls = &p->snap->lamps[l];
+
+		if (ls->cycle_seq != p->last_seq[l])
+			advanced = true;
+		else if ((ls->status & HL_LAMP_VALID) && !(ls->status & HL_LAMP_STALE))
+			lagging = true;
+	}
+	return advanced && lagging;
+}
+
+/* Waits up to coalesce_ns for the other lamp's cycle (render.coalesce_ms), taking the newest. */
+static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
+{
+	const int64_t until = hl_monotonic_ns() + coalesce_ns;
+
+	while (other_lamp_due(p) && !atomic_load(&p->stop)) {
+		const int64_t left = until - hl_monotonic_ns();
+		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
+		struct timespec ts = { left / 1000000000, left % 1000000000 };
+		uint64_t wakes;
+
+		if (left <= 0)
+			break;
+		if (ppoll(&pfd, 1, &ts, NULL) > 0 && read(p->wake_fd, &wakes, sizeof(wakes)) < 0) {
+			/* reset lost: the next ppoll returns at once */
+		}
+		hl_ring_take_newest(p->ring, p->snap);
+	}
+}
+
 static void *thread_main(void *arg)
 {
 	struct hl_pipeline *p = arg;
 	const int64_t period_ns = p->cfg.rate_hz > 0 ? (int64_t)(1e9 / p->cfg.rate_hz) : 0;
+	const int64_t coalesce_ns = (int64_t)(p->cfg.coalesce_ms * 1e6);
 	int64_t next_ns = hl_monotonic_ns();
 	bool have = false;
 	int rc = setup(p);
@@ -374,6 +431,8 @@ static void *thread_main(void *arg)
 			next_ns += period_ns;
 			render(p);
 		} else if (fresh) {
+			if (coalesce_ns > 0)
+				coalesce(p, coalesce_ns);
 			render(p);
 		}
 	}
