@@ -38,15 +38,11 @@
 #include "render/scene.h"
 #include "render/shader.h"
 #include "render/shaders.h"
+#include "tools/bench_stats.h"
 #include "tools/model.h"
 
 #define MAX_RUNS 100000
 #define MAX_SCALING 8
-
-struct stats {
-	double median, min, max;
-	int n;
-};
 
 struct opts {
 	int runs; /* per CPU measurement */
@@ -56,30 +52,6 @@ struct opts {
 	int scaling[MAX_SCALING];
 	int n_scaling;
 };
-
-static double now_ms(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	const double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
-static struct stats summarise(double *t, int n)
-{
-	if (n <= 0)
-		return (struct stats){ -1, -1, -1, 0 };
-	qsort(t, n, sizeof(double), cmp_double);
-	return (struct stats){ n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2, t[0], t[n - 1],
-			       n };
-}
 
 static void put_stats(FILE *f, const char *indent, const char *name, struct stats s,
 		      const char *extra, bool last)
@@ -125,16 +97,16 @@ static struct stats bench_gl_combine(const struct hl_lid *lid, enum hl_gl_combin
 		double t0;
 
 		change_sources(i, n, n / 10 > 0 ? n / 10 : 1, &seed, perm);
-		t0 = now_ms();
+		t0 = hl_bench_now_ms();
 		hl_gl_combiner_update(gc, i);
 		glFinish();
-		t[done] = now_ms() - t0;
+		t[done] = hl_bench_now_ms() - t0;
 	}
 out:
 	hl_gl_combiner_free(gc);
 	free(i);
 	free(perm);
-	return summarise(t, done);
+	return hl_bench_summarise(t, done);
 }
 
 /* CPU: sparse full combine (changed < 0) or incremental with exactly `changed` sources. */
@@ -158,19 +130,19 @@ static struct stats bench_cpu_combine(const struct hl_lid *lid, int changed, int
 		double t0;
 
 		change_sources(i, n, changed < 0 ? n / 10 + 1 : changed, &seed, perm);
-		t0 = now_ms();
+		t0 = hl_bench_now_ms();
 		if (changed < 0)
 			hl_combine_sparse(lid, i, out);
 		else
 			hl_combiner_update(comb, i);
-		t[done] = now_ms() - t0;
+		t[done] = hl_bench_now_ms() - t0;
 	}
 out:
 	hl_combiner_free(comb);
 	free(out);
 	free(i);
 	free(perm);
-	return summarise(t, done);
+	return hl_bench_summarise(t, done);
 }
 
 /* out = sum_k i_k * src_k over full grids (the papers' arithmetic on the CPU). */
@@ -247,17 +219,17 @@ static int bench_dense(const struct hl_lid *lid, int runs, double *t, double *t2
 	sink = read_all(src, k_n, n);
 	/* interleaved, so the combine and its floor see the same load */
 	for (int r = 0; r < runs; r++) {
-		double t0 = now_ms();
+		double t0 = hl_bench_now_ms();
 
 		dense_combine(src, k_n, i, n, out);
-		t[r] = now_ms() - t0;
-		t0 = now_ms();
+		t[r] = hl_bench_now_ms() - t0;
+		t0 = hl_bench_now_ms();
 		sink += read_all(src, k_n, n);
-		t2[r] = now_ms() - t0;
+		t2[r] = hl_bench_now_ms() - t0;
 	}
 	(void)sink;
-	ret->combine = summarise(t, runs);
-	ret->read = summarise(t2, runs);
+	ret->combine = hl_bench_summarise(t, runs);
+	ret->read = hl_bench_summarise(t2, runs);
 	ret->bytes = (double)k_n * n * sizeof(float);
 	ret->gb_per_s = ret->bytes / (ret->read.min * 1e-3) / 1e9;
 	rc = 0;
@@ -331,7 +303,7 @@ static int bench_floor(struct hl_lid *const lamps[2], const float *const base[2]
 	glUniform1i(glGetUniformLocation(prog, "u_pos"), 0);
 	glUniform1i(glGetUniformLocation(prog, "u_nrm"), 1);
 	for (int r = -1; r < o->gl_runs; r++) { /* run -1: shader JIT, first touches */
-		double t0 = now_ms();
+		double t0 = hl_bench_now_ms();
 
 		glBindFramebuffer(GL_FRAMEBUFFER, fbo);
 		glViewport(0, 0, o->w, o->h);
@@ -344,22 +316,22 @@ static int bench_floor(struct hl_lid *const lamps[2], const float *const base[2]
 		glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 		glFinish();
 		if (r >= 0)
-			t[r] = now_ms() - t0;
-		t0 = now_ms();
+			t[r] = hl_bench_now_ms() - t0;
+		t0 = hl_bench_now_ms();
 		hl_gl_headlight_run(hg);
 		glFinish();
 		if (r >= 0)
-			t1[r] = now_ms() - t0;
-		t0 = now_ms();
+			t1[r] = hl_bench_now_ms() - t0;
+		t0 = hl_bench_now_ms();
 		hl_headlight_run(hcpu, (const float *const *)dense, lux);
 		if (r >= 0)
-			t2[r] = now_ms() - t0;
+			t2[r] = hl_bench_now_ms() - t0;
 	}
 	glBindFramebuffer(GL_FRAMEBUFFER, 0);
 	rc = glGetError() == GL_NO_ERROR ? 0 : -EIO;
-	ret->passthrough = summarise(t, o->gl_runs);
-	ret->headlight_gles = summarise(t1, o->gl_runs);
-	ret->headlight_cpu = summarise(t2, o->gl_runs);
+	ret->passthrough = hl_bench_summarise(t, o->gl_runs);
+	ret->headlight_gles = hl_bench_summarise(t1, o->gl_runs);
+	ret->headlight_cpu = hl_bench_summarise(t2, o->gl_runs);
 	ret->pairs = hl_headlight_work(hcpu);
 out:
 	if (prog)
@@ -412,11 +384,11 @@ static struct stats bench_frame(const struct hl_lid *lid, const struct hl_gbuffe
 
 		for (int k = 0; k < 2; k++)
 			change_sources(i[k], n, changed, &seed, perm);
-		t0 = now_ms();
+		t0 = hl_bench_now_ms();
 		for (int k = 0; k < 2; k++)
 			hl_renderer_set_currents(r, k, i[k]);
 		hl_renderer_frame(r, lux);
-		t[done] = now_ms() - t0;
+		t[done] = hl_bench_now_ms() - t0;
 	}
 out:
 	hl_renderer_free(r);
@@ -424,7 +396,7 @@ out:
 	free(i[0]);
 	free(i[1]);
 	free(perm);
-	return summarise(t, done);
+	return hl_bench_summarise(t, done);
 }
 
 struct scaling_result {
@@ -451,7 +423,7 @@ static int bench_scaling(const struct opts *o, double *t, struct scaling_result 
 	for (int s = 0; s < o->n_scaling; s++) {
 		struct scaling_result *r = &res[s];
 		struct hl_lid *lid = NULL;
-		double t0 = now_ms();
+		double t0 = hl_bench_now_ms();
 		int rc = hl_model_pixel(o->scaling[s], &lid);
 
 		if (rc < 0) {
@@ -459,7 +431,7 @@ static int bench_scaling(const struct opts *o, double *t, struct scaling_result 
 			return rc;
 		}
 		r->k = o->scaling[s];
-		r->model_ms = now_ms() - t0;
+		r->model_ms = hl_bench_now_ms() - t0;
 		fprintf(stderr, "scaling: K = %d\n", r->k);
 		r->sparse = bench_cpu_combine(lid, -1, o->runs, t);
 		r->incremental = bench_cpu_combine(lid, r->k / 10 > 0 ? r->k / 10 : 1, o->runs, t);
@@ -529,7 +501,7 @@ int main(int argc, char **argv)
 	float base[2][HL_HD84_SOURCES];
 	const float *basep[2] = { base[0], base[1] };
 	const char *out_path = NULL;
-	double *t, *t2, load0[3], load1[3], t_start = now_ms();
+	double *t, *t2, load0[3], load1[3], t_start = hl_bench_now_ms();
 	FILE *f = stdout;
 	char tail;
 	int c;
@@ -634,7 +606,7 @@ int main(int argc, char **argv)
 		"\"loadavg_1_5_15_end\": [%.2f, %.2f, %.2f]},\n",
 		sysconf(_SC_NPROCESSORS_ONLN), hl_egl_platform(egl), hl_egl_renderer(egl),
 		hl_egl_version(egl), load0[0], load0[1], load0[2], load1[0], load1[1], load1[2]);
-	fprintf(f, "  \"seconds\": %.1f,\n", (now_ms() - t_start) / 1e3);
+	fprintf(f, "  \"seconds\": %.1f,\n", (hl_bench_now_ms() - t_start) / 1e3);
 	fprintf(f, "  \"combine_per_lamp\": {\n    \"sources\": %d, \"grid\": [%d, %d],\n",
 		HL_HD84_SOURCES, hl_lid_grid(lamps[0])->width, hl_lid_grid(lamps[0])->height);
 	put_stats(f, "    ", "papers_gles_full_image_passes_r32f", papers, NULL, false);

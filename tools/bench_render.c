@@ -30,36 +30,10 @@
 #include "render/renderer.h"
 #include "render/scene.h"
 #include "render/view.h"
+#include "tools/bench_stats.h"
 #include "tools/model.h"
 
 #define CHANGED_PER_CYCLE 10 /* sources an ECU cycle typically changes per lamp */
-
-struct stats {
-	double median, min, max;
-	int n;
-};
-
-static double now_ms(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	const double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
-static struct stats summarise(double *t, int n)
-{
-	qsort(t, n, sizeof(double), cmp_double);
-	return (struct stats){ n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2, t[0], t[n - 1],
-			       n };
-}
 
 static void print_stats(FILE *f, const char *name, struct stats s, bool last)
 {
@@ -108,12 +82,12 @@ static struct stats bench_gl_combine(struct ctx *c, enum hl_gl_combine_mode mode
 			hl_gl_combiner_update(gc, zero);
 			glFinish();
 		}
-		t0 = now_ms();
+		t0 = hl_bench_now_ms();
 		hl_gl_combiner_update(gc, i);
 		glFinish();
-		t[r] = now_ms() - t0;
+		t[r] = hl_bench_now_ms() - t0;
 	}
-	s = summarise(t, runs);
+	s = hl_bench_summarise(t, runs);
 	hl_gl_combiner_free(gc);
 	free(t);
 	return s;
@@ -143,7 +117,7 @@ static struct stats bench_cpu_combine(struct ctx *c, bool incremental, bool uplo
 		double t0;
 
 		next_cycle(i, HL_HD84_SOURCES, &seed);
-		t0 = now_ms();
+		t0 = hl_bench_now_ms();
 		if (incremental)
 			hl_combiner_update(comb, i);
 		else
@@ -153,9 +127,9 @@ static struct stats bench_cpu_combine(struct ctx *c, bool incremental, bool uplo
 					GL_FLOAT, incremental ? hl_combiner_result(comb) : out);
 			glFinish();
 		}
-		t[r] = now_ms() - t0;
+		t[r] = hl_bench_now_ms() - t0;
 	}
-	s = summarise(t, runs);
+	s = hl_bench_summarise(t, runs);
 out:
 	if (tex)
 		glDeleteTextures(1, &tex);
@@ -187,26 +161,26 @@ static struct stats bench_frame(struct ctx *c, struct hl_egl *egl, const struct 
 		hl_lamp_pose_default(k, &cfg.poses[k]);
 		memcpy(i[k], c->base[k], sizeof(i[k]));
 	}
-	t0 = now_ms();
+	t0 = hl_bench_now_ms();
 	if (!lux || !rgb || !t || !td || hl_renderer_new(&cfg, gb, &r) < 0)
 		goto out;
 	for (int k = 0; k < 2; k++)
 		hl_renderer_set_currents(r, k, i[k]);
 	hl_renderer_frame(r, lux); /* first frame: shader JIT, first uploads */
-	*ret_setup_ms = now_ms() - t0;
+	*ret_setup_ms = hl_bench_now_ms() - t0;
 	for (int f = 0; f < runs; f++) {
 		for (int k = 0; k < 2; k++)
 			next_cycle(i[k], HL_HD84_SOURCES, &seed);
-		t0 = now_ms();
+		t0 = hl_bench_now_ms();
 		for (int k = 0; k < 2; k++)
 			hl_renderer_set_currents(r, k, i[k]);
 		hl_renderer_frame(r, lux);
-		t[f] = now_ms() - t0;
+		t[f] = hl_bench_now_ms() - t0;
 		hl_view_display(gb, lux, 0.0, rgb);
-		td[f] = now_ms() - t0;
+		td[f] = hl_bench_now_ms() - t0;
 	}
-	s = summarise(t, runs);
-	*ret_display = summarise(td, runs);
+	s = hl_bench_summarise(t, runs);
+	*ret_display = hl_bench_summarise(td, runs);
 out:
 	hl_renderer_free(r);
 	free(lux);
@@ -327,23 +301,23 @@ int main(int argc, char **argv)
 	if (!lux || !t)
 		return 1;
 	{
-		double t0 = now_ms();
+		double t0 = hl_bench_now_ms();
 
 		if (hl_headlight_new(gb, 2, hl, &hcpu) < 0)
 			return 1;
-		precompute_ms = now_ms() - t0;
+		precompute_ms = hl_bench_now_ms() - t0;
 	}
 	for (int r = 0; r < frames; r++) {
-		double t0 = now_ms();
+		double t0 = hl_bench_now_ms();
 
 		hl_headlight_run(hcpu, (const float *const *)dense, lux);
-		t[r] = now_ms() - t0;
+		t[r] = hl_bench_now_ms() - t0;
 	}
-	s_light_cpu = summarise(t, frames);
+	s_light_cpu = hl_bench_summarise(t, frames);
 	for (int m = 0; m < 2; m++) {
 		struct hl_gl_headlight *hg;
 		int runs = frames < 30 ? frames : 30;
-		double t0 = now_ms();
+		double t0 = hl_bench_now_ms();
 
 		if (hl_gl_headlight_new(gb, 2, hl, m, &hg, NULL, 0) < 0)
 			return 1;
@@ -351,14 +325,14 @@ int main(int argc, char **argv)
 		hl_gl_headlight_upload(hg, 1, dense[1]);
 		hl_gl_headlight_run(hg);
 		glFinish();
-		gl_setup_ms[m] = now_ms() - t0;
+		gl_setup_ms[m] = hl_bench_now_ms() - t0;
 		for (int r = 0; r < runs; r++) {
-			t0 = now_ms();
+			t0 = hl_bench_now_ms();
 			hl_gl_headlight_run(hg);
 			glFinish();
-			t[r] = now_ms() - t0;
+			t[r] = hl_bench_now_ms() - t0;
 		}
-		s_light_gl[m] = summarise(t, runs);
+		s_light_gl[m] = hl_bench_summarise(t, runs);
 		hl_gl_headlight_free(hg);
 	}
 

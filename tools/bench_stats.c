@@ -1,0 +1,29 @@
+/* SPDX-License-Identifier: MIT */
+#include "tools/bench_stats.h"
+
+#include <stdlib.h>
+#include <time.h>
+
+double hl_bench_now_ms(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	const double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+struct stats hl_bench_summarise(double *t, int n)
+{
+	if (n <= 0)
+		return (struct stats){ -1, -1, -1, 0 };
+	qsort(t, n, sizeof(double), cmp_double);
+	return (struct stats){ n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2, t[0], t[n - 1],
+			       n };
+}
