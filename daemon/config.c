@@ -53,6 +53,8 @@ static const struct key keys[] = {
 	{ "render", "exposure_ev", DOUBLE, F(exposure_ev), -20, 20, "display view exposure" },
 	{ "render", "combine", BACKEND, F(combine), 0, 0, "auto | cpu | gles" },
 	{ "render", "headlight", BACKEND, F(headlight), 0, 0, "auto | cpu | gles" },
+	{ "render", "threads", INT, F(render_threads), 0, 16,
+	  "threads lighting a frame (render thread + helpers); 0 = one per CPU" },
 	{ "render", "rate_hz", DOUBLE, F(rate_hz), 0, 1000,
 	  "fixed output rate; 0 = on every new cycle" },
 	{ "render", "coalesce_ms", DOUBLE, F(coalesce_ms), 0, 20,

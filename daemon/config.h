@@ -39,6 +39,7 @@ struct hl_config {
 	int width, height;
 	double exposure_ev;
 	char combine[HL_CONFIG_NAME], headlight[HL_CONFIG_NAME]; /* auto | cpu | gles */
+	int render_threads; /* threads lighting a frame; 0: one per online CPU */
 	double rate_hz; /* 0: render on every new complete cycle */
 	double coalesce_ms; /* rate_hz 0: wait at most this for the other lamp's cycle */
 	/* [stream] */

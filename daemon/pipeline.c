@@ -18,6 +18,7 @@
 #include "render/frame_exr.h"
 #include "render/renderer.h"
 #include "render/view.h"
+#include "render/workers.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
 
@@ -207,6 +208,14 @@ static int setup(struct hl_pipeline *p)
 	rc_cfg.combine = hl_backend_from_name(p->cfg.combine);
 	rc_cfg.headlight = hl_backend_from_name(p->cfg.headlight);
 	rc_cfg.egl = p->egl;
+	rc_cfg.threads = p->cfg.render_threads;
+	if (rc_cfg.threads == 0) {
+		const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+
+		rc_cfg.threads = cpus < 1		       ? 1 :
+				 cpus > HL_WORKERS_MAX_THREADS ? HL_WORKERS_MAX_THREADS :
+								 (int)cpus;
+	}
 	rc = hl_renderer_new(&rc_cfg, p->gb, &p->r);
 	if (rc < 0) {
 		snprintf(p->start_err, sizeof(p->start_err), "cannot set up the renderer: %s",
@@ -214,9 +223,10 @@ static int setup(struct hl_pipeline *p)
 		return rc;
 	}
 	snprintf(p->describe, sizeof(p->describe),
-		 "EGL %s, %s; combine on %s, headlight pass on %s", hl_egl_platform(p->egl),
-		 hl_egl_renderer(p->egl), hl_backend_name(hl_renderer_combine_backend(p->r)),
-		 hl_backend_name(hl_renderer_headlight_backend(p->r)));
+		 "EGL %s, %s; combine on %s, headlight pass on %s, %d threads",
+		 hl_egl_platform(p->egl), hl_egl_renderer(p->egl),
+		 hl_backend_name(hl_renderer_combine_backend(p->r)),
+		 hl_backend_name(hl_renderer_headlight_backend(p->r)), rc_cfg.threads);
 	/*
 	 * Both stages on the CPU (what auto picks on llvmpipe): the context has no more work, but
 	 * llvmpipe keeps what the auto choice's GLES candidates allocated (~90 MB at 1280x720)
@@ -264,6 +274,19 @@ static void record_time(struct hl_pipeline *p, double ms, bool published, uint32
 	pthread_mutex_unlock(&p->lock);
 }
 
+struct display_job {
+	const struct hl_gbuffer *gb;
+	double exposure_ev;
+	uint8_t *rgb;
+};
+
+static void display_band(void *userdata, const float *lux, size_t first, size_t count)
+{
+	const struct display_job *j = userdata;
+
+	hl_view_display_range(j->gb, lux, j->exposure_ev, first, count, j->rgb);
+}
+
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
@@ -305,7 +328,14 @@ static void render(struct hl_pipeline *p)
 
 	for (int l = 0; l < p->n_lamps; l++)
 		p->last_seq[l] = s->lamps[l].cycle_seq;
-	hl_renderer_frame(p->r, f ? f->lux : p->lux);
+	if (f && p->view == HL_VIEW_DISPLAY) {
+		/* tone-mapped band by band while the band's illuminance is in the cache */
+		struct display_job j = { p->gb, ev, f->pixels };
+
+		hl_renderer_frame_pixels(p->r, f->lux, display_band, &j);
+	} else {
+		hl_renderer_frame(p->r, f ? f->lux : p->lux);
+	}
 	if (f) {
 		switch (p->view) {
 		case HL_VIEW_LUX:
@@ -320,8 +350,7 @@ static void render(struct hl_pipeline *p)
 				h[i] = hl_half_from_float(p->rgba[i]);
 			break;
 		}
-		default:
-			hl_view_display(p->gb, f->lux, ev, f->pixels);
+		default: /* display: done with the frame */
 			break;
 		}
 		for (int l = 0; l < p->n_lamps; l++) {

@@ -243,6 +243,16 @@ bool hl_egl_has_gl_extension(const struct hl_egl *egl, const char *name)
 	return false;
 }
 
+bool hl_egl_software(const struct hl_egl *egl)
+{
+	static const char *const names[] = { "llvmpipe", "softpipe", "swrast" };
+
+	for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++)
+		if (strstr(egl->renderer, names[i]))
+			return true;
+	return false;
+}
+
 bool hl_egl_float_targets(const struct hl_egl *egl)
 {
 	return egl->float_targets;

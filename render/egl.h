@@ -37,6 +37,8 @@ const char *hl_egl_version(const struct hl_egl *egl);
 bool hl_egl_has_gl_extension(const struct hl_egl *egl, const char *name);
 /* Float render targets (EXT_color_buffer_float) and blending into 32-bit floats (EXT_float_blend). */
 bool hl_egl_float_targets(const struct hl_egl *egl);
+/* A software rasteriser (Mesa's llvmpipe, softpipe, swrast): GLES runs on the CPU's cores. */
+bool hl_egl_software(const struct hl_egl *egl);
 bool hl_egl_float_blend(const struct hl_egl *egl);
 
 #endif

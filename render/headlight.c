@@ -27,12 +27,25 @@ struct span {
 	uint32_t first, count;
 };
 
+/*
+ * A band of CHUNK_PIXELS pixels (the last one shorter), the unit a frame is split into for the
+ * threads: its spans, which never cross a band's border, and where its terms start.
+ */
+struct chunk {
+	size_t first_span, n_spans;
+	size_t first_term;
+};
+
+#define CHUNK_PIXELS 16384 /* 12.8 rows of 1280: ~60 chunks a frame, ~100 us each */
+
 struct hl_headlight {
 	int width, height;
 	int n_lamps;
 	struct hl_headlight_lamp lamps[HL_HEADLIGHT_MAX_LAMPS];
 	struct span *spans;
 	size_t n_spans;
+	struct chunk *chunks;
+	size_t n_chunks;
 	struct term *terms; /* n_lamps per lit pixel, in pixel order, lamps interleaved */
 	size_t n_lit; /* pixels in the spans */
 	size_t work; /* pixel-lamp pairs with g > 0 */
@@ -103,13 +116,26 @@ static int precompute(struct hl_headlight *h, const struct hl_gbuffer *gb)
 	size_t n_lit = 0, n_spans = 0;
 	bool prev_lit = false;
 
+	h->n_chunks = (npix + CHUNK_PIXELS - 1) / CHUNK_PIXELS;
 	h->terms = malloc(sizeof(*h->terms) * nl * (npix ? npix : 1));
-	h->spans = malloc(sizeof(*h->spans) * (npix / 2 + 1));
-	if (!h->terms || !h->spans)
+	/* a span needs an unlit pixel or a band border before it */
+	h->spans = malloc(sizeof(*h->spans) * (npix / 2 + h->n_chunks + 1));
+	h->chunks = calloc(h->n_chunks ? h->n_chunks : 1, sizeof(*h->chunks));
+	if (!h->terms || !h->spans || !h->chunks)
 		return -ENOMEM;
 	for (size_t i = 0; i < npix; i++) {
 		struct term t[HL_HEADLIGHT_MAX_LAMPS];
 		bool lit = false;
+
+		if (i % CHUNK_PIXELS == 0) {
+			struct chunk *c = &h->chunks[i / CHUNK_PIXELS];
+
+			if (i > 0)
+				c[-1].n_spans = n_spans - c[-1].first_span;
+			c->first_span = n_spans;
+			c->first_term = n_lit * nl;
+			prev_lit = false;
+		}
 
 		for (int k = 0; k < nl; k++) {
 			t[k] = make_term(&h->lamps[k], gb->pos + 4 * i, gb->nrm + 4 * i);
@@ -127,6 +153,9 @@ static int precompute(struct hl_headlight *h, const struct hl_gbuffer *gb)
 		n_lit++;
 		prev_lit = true;
 	}
+	if (h->n_chunks)
+		h->chunks[h->n_chunks - 1].n_spans =
+			n_spans - h->chunks[h->n_chunks - 1].first_span;
 	h->n_lit = n_lit;
 	h->n_spans = n_spans;
 	/* Shrinking cannot fail in practice; keep the larger block if it does. */
@@ -173,6 +202,7 @@ void hl_headlight_free(struct hl_headlight *h)
 		return;
 	free(h->terms);
 	free(h->spans);
+	free(h->chunks);
 	free(h);
 }
 
@@ -187,31 +217,76 @@ static inline float lookup(const struct term *t, const float *restrict s0, size_
 	return t->g * (top + ty * (bottom - top));
 }
 
-void hl_headlight_run(const struct hl_headlight *h, const float *const *dense, float *lux)
+size_t hl_headlight_chunks(const struct hl_headlight *h)
 {
-	const struct term *t = h->terms;
+	return h->n_chunks;
+}
+
+void hl_headlight_chunk_pixels(const struct hl_headlight *h, size_t c, size_t *ret_first,
+			       size_t *ret_count)
+{
+	const size_t npix = (size_t)h->width * h->height;
+	const size_t first = c * CHUNK_PIXELS;
+
+	*ret_first = first;
+	*ret_count = npix - first < CHUNK_PIXELS ? npix - first : CHUNK_PIXELS;
+}
+
+/* The illuminance of span sp into lux, from its terms at t; returns the terms after it. */
+static const struct term *light_span(const struct hl_headlight *h, const float *const *dense,
+				     struct span sp, const struct term *t, float *lux)
+{
 	const float *d0 = dense[0], *d1 = h->n_lamps > 1 ? dense[1] : NULL;
 	const size_t w0 = (size_t)h->lamps[0].grid.width;
 	const size_t w1 = h->n_lamps > 1 ? (size_t)h->lamps[1].grid.width : 0;
-	size_t prev_end = 0;
+	float *restrict out = lux + sp.first;
 
-	for (size_t s = 0; s < h->n_spans; s++) {
-		const struct span sp = h->spans[s];
-		float *restrict out = lux + sp.first;
-
-		/* Pixels between spans no lamp reaches. */
-		memset(lux + prev_end, 0, sizeof(float) * (sp.first - prev_end));
-		prev_end = (size_t)sp.first + sp.count;
-		if (h->n_lamps == 1) {
-			for (uint32_t j = 0; j < sp.count; j++, t++)
-				out[j] = d0 ? lookup(t, d0, w0) : 0.0f;
-		} else {
-			for (uint32_t j = 0; j < sp.count; j++, t += 2)
-				out[j] = (d0 ? lookup(&t[0], d0, w0) : 0.0f) +
-					 (d1 ? lookup(&t[1], d1, w1) : 0.0f);
-		}
+	if (h->n_lamps == 1) {
+		for (uint32_t j = 0; j < sp.count; j++, t++)
+			out[j] = d0 ? lookup(t, d0, w0) : 0.0f;
+	} else {
+		for (uint32_t j = 0; j < sp.count; j++, t += 2)
+			out[j] = (d0 ? lookup(&t[0], d0, w0) : 0.0f) +
+				 (d1 ? lookup(&t[1], d1, w1) : 0.0f);
 	}
-	memset(lux + prev_end, 0, sizeof(float) * ((size_t)h->width * h->height - prev_end));
+	return t;
+}
+
+void hl_headlight_run_chunk(const struct hl_headlight *h, const float *const *dense, size_t c,
+			    float *lux)
+{
+	const struct chunk *ch = &h->chunks[c];
+	const struct term *t = h->terms + ch->first_term;
+	size_t first, count, prev_end;
+
+	hl_headlight_chunk_pixels(h, c, &first, &count);
+	prev_end = first;
+	for (size_t s = ch->first_span; s < ch->first_span + ch->n_spans; s++) {
+		/* Pixels between spans no lamp reaches. */
+		memset(lux + prev_end, 0, sizeof(float) * (h->spans[s].first - prev_end));
+		prev_end = (size_t)h->spans[s].first + h->spans[s].count;
+		t = light_span(h, dense, h->spans[s], t, lux);
+	}
+	memset(lux + prev_end, 0, sizeof(float) * (first + count - prev_end));
+}
+
+void hl_headlight_run_chunk_lit(const struct hl_headlight *h, const float *const *dense, size_t c,
+				float *lux, hl_headlight_span_fn span, void *userdata)
+{
+	const struct chunk *ch = &h->chunks[c];
+	const struct term *t = h->terms + ch->first_term;
+
+	for (size_t s = ch->first_span; s < ch->first_span + ch->n_spans; s++) {
+		t = light_span(h, dense, h->spans[s], t, lux);
+		if (span)
+			span(userdata, lux, h->spans[s].first, h->spans[s].count);
+	}
+}
+
+void hl_headlight_run(const struct hl_headlight *h, const float *const *dense, float *lux)
+{
+	for (size_t c = 0; c < h->n_chunks; c++)
+		hl_headlight_run_chunk(h, dense, c, lux);
 }
 
 size_t hl_headlight_work(const struct hl_headlight *h)

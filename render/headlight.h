@@ -10,7 +10,11 @@
  * and cos(eps) / r^2. A frame (hl_headlight_run) is then only the four lookups, the
  * weighting and the sum, over the pixels a lamp can reach.
  *
- * Thread-safety: one thread per object (the render thread); the G-buffer is read only in _new.
+ * A frame is also available in bands of pixels (chunks) that several threads can light at
+ * once: hl_headlight_run() is every chunk in turn.
+ *
+ * Thread-safety: one thread builds and frees the object (the G-buffer is read only in _new);
+ * hl_headlight_run_chunk() of different chunks may run on several threads at once.
  */
 #ifndef HL_RENDER_HEADLIGHT_H
 #define HL_RENDER_HEADLIGHT_H
@@ -40,6 +44,24 @@ void hl_headlight_free(struct hl_headlight *h);
  * Allocates nothing.
  */
 void hl_headlight_run(const struct hl_headlight *h, const float *const *dense, float *ret_lux);
+
+/* Bands a frame is split into; chunk c covers the pixels *ret_first .. + *ret_count - 1. */
+size_t hl_headlight_chunks(const struct hl_headlight *h);
+void hl_headlight_chunk_pixels(const struct hl_headlight *h, size_t c, size_t *ret_first,
+			       size_t *ret_count);
+/* hl_headlight_run() for the pixels of chunk c only (writes nothing else of ret_lux). */
+void hl_headlight_run_chunk(const struct hl_headlight *h, const float *const *dense, size_t c,
+			    float *ret_lux);
+
+/*
+ * The same for the pixels some lamp can reach only: the others keep what ret_lux holds, which
+ * is the right value (zero) when the caller zeroed the buffer once, since no frame makes them
+ * anything else. span(userdata, ret_lux, first, count), if not NULL, is called for each run of
+ * lit pixels as soon as it is done, while it is still in the cache.
+ */
+typedef void (*hl_headlight_span_fn)(void *userdata, const float *lux, size_t first, size_t count);
+void hl_headlight_run_chunk_lit(const struct hl_headlight *h, const float *const *dense, size_t c,
+				float *ret_lux, hl_headlight_span_fn span, void *userdata);
 
 /* Pixel-lamp pairs a frame visits (the work of one frame). */
 size_t hl_headlight_work(const struct hl_headlight *h);

@@ -12,6 +12,9 @@
 #include "render/gl_combine.h"
 #include "render/gl_headlight.h"
 #include "render/headlight.h"
+#include "render/workers.h"
+
+#define GLES_BAND_PIXELS 16384 /* bands of a read-back GLES frame handed to pixels() */
 
 struct hl_renderer {
 	int n_lamps;
@@ -25,6 +28,7 @@ struct hl_renderer {
 	float *dense[2]; /* combined distributions on the CPU (or a combined lid's copy) */
 	bool dense_stale[2]; /* GL combine ran since dense was read back */
 	bool dirty[2]; /* currents changed since the last frame */
+	struct hl_workers *workers;
 };
 
 static const char *const backend_names[] = { "auto", "cpu", "gles" };
@@ -134,10 +138,13 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 	r->height = gb->height;
 	r->combine = cfg->combine;
 	r->headlight = cfg->headlight;
-	if (!cfg->egl) {
+	if (!cfg->egl || hl_egl_software(cfg->egl)) {
 		r->combine = r->combine == HL_BACKEND_AUTO ? HL_BACKEND_CPU : r->combine;
 		r->headlight = r->headlight == HL_BACKEND_AUTO ? HL_BACKEND_CPU : r->headlight;
 	}
+	rc = hl_workers_new(cfg->threads > 0 ? cfg->threads : 1, &r->workers);
+	if (rc < 0)
+		goto err_free;
 	if ((r->combine == HL_BACKEND_GLES || r->headlight == HL_BACKEND_GLES) && !cfg->egl) {
 		rc = -ENODEV;
 		goto err_free;
@@ -216,6 +223,7 @@ void hl_renderer_free(struct hl_renderer *r)
 	}
 	hl_headlight_free(r->cpu_light);
 	hl_gl_headlight_free(r->gl_light);
+	hl_workers_free(r->workers);
 	free(r);
 }
 
@@ -261,17 +269,52 @@ static const float *cpu_dense(struct hl_renderer *r, int k)
 	return r->dense[k];
 }
 
-int hl_renderer_frame(struct hl_renderer *r, float *ret_lux)
-{
-	if (r->cpu_light) {
-		const float *dense[2] = { NULL, NULL };
+struct frame_job {
+	struct hl_renderer *r;
+	const float *dense[2];
+	float *lux;
+	hl_renderer_pixels_fn pixels;
+	void *userdata;
+};
 
+static void light_band(void *arg, size_t c)
+{
+	const struct frame_job *j = arg;
+
+	hl_headlight_run_chunk(j->r->cpu_light, j->dense, c, j->lux);
+}
+
+static void light_band_lit(void *arg, size_t c)
+{
+	const struct frame_job *j = arg;
+
+	hl_headlight_run_chunk_lit(j->r->cpu_light, j->dense, c, j->lux, j->pixels, j->userdata);
+}
+
+static void view_band(void *arg, size_t c)
+{
+	const struct frame_job *j = arg;
+	const size_t n = (size_t)j->r->width * j->r->height, first = c * GLES_BAND_PIXELS;
+
+	j->pixels(j->userdata, j->lux, first,
+		  n - first < GLES_BAND_PIXELS ? n - first : GLES_BAND_PIXELS);
+}
+
+int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_pixels_fn pixels,
+			     void *userdata)
+{
+	struct frame_job j = { .r = r, .lux = ret_lux, .pixels = pixels, .userdata = userdata };
+	const size_t n = (size_t)r->width * r->height;
+	int rc;
+
+	if (r->cpu_light) {
 		for (int k = 0; k < r->n_lamps; k++) {
-			dense[k] = cpu_dense(r, k);
-			if (!dense[k])
+			j.dense[k] = cpu_dense(r, k);
+			if (!j.dense[k])
 				return -EIO;
 		}
-		hl_headlight_run(r->cpu_light, dense, ret_lux);
+		hl_workers_run(r->workers, hl_headlight_chunks(r->cpu_light),
+			       pixels ? light_band_lit : light_band, &j);
 		return 0;
 	}
 	for (int k = 0; k < r->n_lamps; k++) {
@@ -288,7 +331,16 @@ int hl_renderer_frame(struct hl_renderer *r, float *ret_lux)
 		r->dirty[k] = false;
 	}
 	hl_gl_headlight_run(r->gl_light);
-	return hl_gl_headlight_read(r->gl_light, ret_lux);
+	rc = hl_gl_headlight_read(r->gl_light, ret_lux);
+	if (rc == 0 && pixels)
+		hl_workers_run(r->workers, (n + GLES_BAND_PIXELS - 1) / GLES_BAND_PIXELS, view_band,
+			       &j);
+	return rc;
+}
+
+int hl_renderer_frame(struct hl_renderer *r, float *ret_lux)
+{
+	return hl_renderer_frame_pixels(r, ret_lux, NULL, NULL);
 }
 
 const float *hl_renderer_distribution(struct hl_renderer *r, int k)

@@ -3,14 +3,23 @@
  * The render path of one scene view: per lamp the combiner (L = sum_k i_k L_k, 32-bit), then
  * the headlight pass over a static G-buffer, giving illuminance per pixel. Each stage runs on
  * the CPU or in GLES; HL_BACKEND_AUTO times both when the renderer is made (a few updates of
- * the combiner, one headlight frame) and keeps the faster on this machine.
+ * the combiner, one headlight frame) and keeps the faster on this machine. On a software
+ * rasteriser (llvmpipe: GLES runs on the same cores) AUTO is the CPU without timing: there the
+ * GLES stages are 7-60x slower (tools/bench), and building them only to time them would double
+ * the daemon's memory at start-up.
  *
- * Thread-safety: one thread (the render thread, which owns the EGL context when GLES is used).
+ * The CPU headlight pass and the per-pixel views after it are split into bands of pixels that
+ * the renderer's threads (config threads: the calling thread and threads - 1 helpers) take in
+ * turn.
+ *
+ * Thread-safety: one thread (the render thread, which owns the EGL context when GLES is used);
+ * a frame's pixels callback runs on that thread and on the helpers at once.
  */
 #ifndef HL_RENDER_RENDERER_H
 #define HL_RENDER_RENDERER_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "render/camera.h"
 #include "render/egl.h"
@@ -30,6 +39,7 @@ struct hl_renderer_config {
 	enum hl_backend combine; /* AUTO: measured */
 	enum hl_backend headlight; /* AUTO: measured */
 	struct hl_egl *egl; /* needed for GLES stages; NULL for CPU only */
+	int threads; /* threads lighting a frame, the caller included; 0 = 1 */
 };
 
 struct hl_renderer;
@@ -59,6 +69,22 @@ int hl_renderer_set_currents(struct hl_renderer *r, int k, const float *i);
 
 /* One frame: combines what changed and lights the G-buffer into ret_lux (w * h floats). */
 int hl_renderer_frame(struct hl_renderer *r, float *ret_lux);
+
+/*
+ * Called once the illuminance of pixels first .. first + count - 1 is final, for every pixel
+ * once per frame, from any of the renderer's threads, bands in no particular order; writes
+ * only what those pixels own.
+ */
+typedef void (*hl_renderer_pixels_fn)(void *userdata, const float *lux, size_t first, size_t count);
+
+/*
+ * hl_renderer_frame(), and pixels() over each run of pixels while it is still in the cache. On
+ * the CPU only the pixels some lamp can reach are written and passed to pixels(): the others
+ * must be zero in ret_lux, and whatever pixels() fills must hold their value already (buffers
+ * zeroed once and only ever used for this). GLES writes and passes every pixel.
+ */
+int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_pixels_fn pixels,
+			     void *userdata);
 
 /* The current combined distribution of lamp k (grid layout, cd), valid until the next frame. */
 const float *hl_renderer_distribution(struct hl_renderer *r, int k);

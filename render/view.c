@@ -66,7 +66,13 @@ static uint8_t srgb8(float x)
 void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double exposure_ev,
 		     uint8_t *ret)
 {
-	const size_t n = (size_t)gb->width * gb->height;
+	hl_view_display_range(gb, lux, exposure_ev, 0, (size_t)gb->width * gb->height, ret);
+}
+
+void hl_view_display_range(const struct hl_gbuffer *gb, const float *lux, double exposure_ev,
+			   size_t first, size_t count, uint8_t *ret)
+{
+	const size_t n = first + count;
 	const float scale = (float)(exp2(exposure_ev) * M_1_PI);
 	/* Per thread, built on first use: the views stay callable from any thread. */
 	static _Thread_local uint8_t lut[LUT_SIZE];
@@ -79,7 +85,7 @@ void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double expos
 	for (int i = 0; !lut_ready && i < LUT_SIZE; i++)
 		lut[i] = srgb8((i + 0.5f) / LUT_SIZE);
 	lut_ready = true;
-	for (size_t i = 0; i < n; i++) {
+	for (size_t i = first; i < n; i++) {
 		const float x = gb->albedo[i] * lux[i] * scale;
 		const float t = x / (1.0f + x);
 		const int j = (int)(t * LUT_SIZE);

@@ -13,6 +13,7 @@
 #define HL_RENDER_VIEW_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "render/scene.h"
@@ -45,6 +46,9 @@ void hl_view_hdr(const struct hl_gbuffer *gb, const float *lux, float *ret_rgba)
 /* ret_rgb: 3 bytes per pixel. */
 void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double exposure_ev,
 		     uint8_t *ret_rgb);
+/* The display view of pixels first .. first + count - 1 only (ret_rgb: the whole image). */
+void hl_view_display_range(const struct hl_gbuffer *gb, const float *lux, double exposure_ev,
+			   size_t first, size_t count, uint8_t *ret_rgb);
 /* ret_rgb: 3 bytes per pixel. lux of a width x height image; gb marks the sky (id 0). */
 void hl_view_lux(const struct hl_gbuffer *gb, const float *lux, const struct hl_view_lux_opts *opts,
 		 uint8_t *ret_rgb);

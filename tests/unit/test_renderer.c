@@ -148,6 +148,94 @@ static void renderer_backend_pairs_agree(void **state)
 	}
 }
 
+/* What frame_pixels() handed out: how often each pixel, and the display view it wrote. */
+struct seen {
+	int width;
+	uint8_t *count;
+	float *copy;
+};
+
+static void record_pixels(void *userdata, const float *lux, size_t first, size_t count)
+{
+	struct seen *s = userdata;
+
+	/* bands are disjoint, so each thread writes only its own pixels here */
+	for (size_t i = first; i < first + count; i++) {
+		s->count[i]++;
+		s->copy[i] = lux[i];
+	}
+}
+
+/*
+ * A frame lit on 1, 2 and 3 threads, band by band with the pixels callback, is the frame of
+ * hl_renderer_frame() on one thread bit for bit; on the CPU the callback sees every lit pixel
+ * once and nothing else (the others are zero in every frame), under GLES every pixel once.
+ */
+static void renderer_threads_and_pixel_runs_give_the_same_frame(void **state)
+{
+	const int w = 320, h = 180; /* several bands of the headlight pass */
+	struct hl_gbuffer *big = NULL;
+	struct hl_lamp_pose p[2];
+	struct hl_scene scene;
+	struct hl_camera cam;
+	float *ref = calloc((size_t)w * h, sizeof(float));
+	float *lux = calloc((size_t)w * h, sizeof(float));
+	struct seen seen = { w, calloc((size_t)w * h, 1), calloc((size_t)w * h, sizeof(float)) };
+	size_t lit = 0;
+
+	(void)state;
+	hl_lamp_pose_default(0, &p[0]);
+	hl_lamp_pose_default(1, &p[1]);
+	hl_scene_init(&scene, HL_SCENE_ROAD, p);
+	hl_scene_default_camera(&scene, w, h, &cam);
+	assert_int_equal(hl_gbuffer_new(w, h, &big), 0);
+	assert_int_equal(hl_scene_render(&scene, &cam, big), 0);
+	for (int light = HL_BACKEND_CPU; light <= HL_BACKEND_GLES; light++) {
+		for (int threads = 1; threads <= 3; threads++) {
+			struct hl_renderer_config cfg;
+			struct hl_renderer *r = NULL;
+			float i[HL_HD84_SOURCES];
+
+			config(&cfg, HL_BACKEND_CPU, (enum hl_backend)light);
+			cfg.threads = threads;
+			assert_int_equal(hl_renderer_new(&cfg, big, &r), 0);
+			for (int k = 0; k < 2; k++) {
+				hl_preset_intensities(high, k, i);
+				hl_renderer_set_currents(r, k, i);
+			}
+			if (threads == 1) {
+				assert_int_equal(hl_renderer_frame(r, ref), 0);
+				lit = 0;
+				for (int j = 0; j < w * h; j++)
+					lit += ref[j] > 0.0f;
+				assert_true(lit > (size_t)w * h / 4);
+			}
+			/* twice into the same buffers, as the daemon's frame pool does */
+			for (int rep = 0; rep < 2; rep++) {
+				memset(seen.count, 0, (size_t)w * h);
+				assert_int_equal(
+					hl_renderer_frame_pixels(r, lux, record_pixels, &seen), 0);
+				for (int j = 0; j < w * h; j++) {
+					assert_true(lux[j] == ref[j]);
+					if (light == HL_BACKEND_GLES)
+						assert_int_equal(seen.count[j], 1);
+					else if (ref[j] > 0.0f)
+						assert_int_equal(seen.count[j], 1);
+					if (seen.count[j])
+						assert_true(seen.copy[j] == ref[j]);
+				}
+			}
+			hl_renderer_free(r);
+		}
+	}
+	printf("%zu of %d pixels lit; 1-3 threads give the same frame\n", lit, w * h);
+	hl_gbuffer_free(big);
+	free(ref);
+	free(lux);
+	free(seen.count);
+	free(seen.copy);
+}
+
 static void renderer_auto_picks_a_backend_and_cpu_needs_no_egl(void **state)
 {
 	struct hl_renderer_config cfg;
@@ -162,6 +250,11 @@ static void renderer_auto_picks_a_backend_and_cpu_needs_no_egl(void **state)
 	       hl_backend_name(hl_renderer_headlight_backend(r)));
 	assert_int_not_equal(hl_renderer_combine_backend(r), HL_BACKEND_AUTO);
 	assert_int_not_equal(hl_renderer_headlight_backend(r), HL_BACKEND_AUTO);
+	if (hl_egl_software(egl)) {
+		/* GLES on the CPU's own cores: no timing, the CPU stages */
+		assert_int_equal(hl_renderer_combine_backend(r), HL_BACKEND_CPU);
+		assert_int_equal(hl_renderer_headlight_backend(r), HL_BACKEND_CPU);
+	}
 	hl_renderer_free(r);
 	r = NULL;
 
@@ -184,6 +277,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(renderer_backend_pairs_agree),
+		cmocka_unit_test(renderer_threads_and_pixel_runs_give_the_same_frame),
 		cmocka_unit_test(renderer_auto_picks_a_backend_and_cpu_needs_no_egl),
 	};
 

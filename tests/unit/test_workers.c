@@ -1,0 +1,132 @@
+/* SPDX-License-Identifier: MIT */
+#include <errno.h>
+#include <pthread.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "render/workers.h"
+
+#define MAX_N 512
+
+struct job {
+	atomic_int runs[MAX_N]; /* how often each index ran */
+	atomic_int other_thread; /* indices a helper ran */
+	pthread_t caller;
+	int tag; /* which job this is: an index of an older job must never run with it */
+	atomic_int wrong_tag;
+	int expect_tag;
+	int slow_every; /* every slow_every-th index sleeps 50 us (0: none) */
+};
+
+static void run_index(void *ctx, size_t i)
+{
+	struct job *j = ctx;
+
+	if (j->tag != j->expect_tag)
+		atomic_fetch_add(&j->wrong_tag, 1);
+	if (j->slow_every && i % (size_t)j->slow_every == 0) {
+		const struct timespec ts = { 0, 50000 };
+
+		nanosleep(&ts, NULL);
+	}
+	atomic_fetch_add(&j->runs[i], 1);
+	if (!pthread_equal(pthread_self(), j->caller))
+		atomic_fetch_add(&j->other_thread, 1);
+}
+
+static void check_once(struct job *j, size_t n)
+{
+	for (size_t i = 0; i < MAX_N; i++)
+		assert_int_equal(atomic_load(&j->runs[i]), i < n ? 1 : 0);
+	assert_int_equal(atomic_load(&j->wrong_tag), 0);
+}
+
+static struct job *job_new(int tag, int slow_every)
+{
+	struct job *j = calloc(1, sizeof(*j));
+
+	assert_non_null(j);
+	j->caller = pthread_self();
+	j->tag = j->expect_tag = tag;
+	j->slow_every = slow_every;
+	return j;
+}
+
+static void workers_run_every_index_exactly_once(void **state)
+{
+	(void)state;
+	for (int threads = 1; threads <= 4; threads++) {
+		struct hl_workers *w = NULL;
+		const size_t sizes[] = { 0, 1, 2, 3, 57, MAX_N };
+
+		assert_int_equal(hl_workers_new(threads, &w), 0);
+		assert_int_equal(hl_workers_threads(w), threads);
+		for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); s++) {
+			struct job *j = job_new(1, 7);
+
+			hl_workers_run(w, sizes[s], run_index, j);
+			check_once(j, sizes[s]);
+			if (threads == 1)
+				assert_int_equal(atomic_load(&j->other_thread), 0);
+			free(j);
+		}
+		hl_workers_free(w);
+	}
+}
+
+/*
+ * Jobs back to back: a helper that finished an index of the previous job must not claim one
+ * of the next (it would run it with the old function and context).
+ */
+static void workers_back_to_back_jobs_never_mix(void **state)
+{
+	struct hl_workers *w = NULL;
+	unsigned long long helped = 0;
+
+	(void)state;
+	assert_int_equal(hl_workers_new(3, &w), 0);
+	for (int r = 0; r < 3000; r++) {
+		struct job *j = job_new(r, r % 3 == 0 ? 5 : 0);
+		const size_t n = 2 + (size_t)(r * 37) % 60;
+
+		hl_workers_run(w, n, run_index, j);
+		/* once returned, nothing of this job may run any more */
+		j->expect_tag = -1;
+		check_once(j, n);
+		helped += (unsigned)atomic_load(&j->other_thread);
+		/* a late helper touching j now would count a wrong tag or a second run */
+		free(j);
+	}
+	/* the helpers took part (with 50 us sleeps they must) */
+	assert_true(helped > 0);
+	hl_workers_free(w);
+}
+
+static void workers_reject_bad_thread_counts(void **state)
+{
+	struct hl_workers *w = NULL;
+
+	(void)state;
+	assert_int_equal(hl_workers_new(0, &w), -EINVAL);
+	assert_int_equal(hl_workers_new(HL_WORKERS_MAX_THREADS + 1, &w), -EINVAL);
+	assert_null(w);
+	hl_workers_free(NULL);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(workers_run_every_index_exactly_once),
+		cmocka_unit_test(workers_back_to_back_jobs_never_mix),
+		cmocka_unit_test(workers_reject_bad_thread_counts),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
