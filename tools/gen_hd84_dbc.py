@@ -295,7 +295,7 @@ def main():
         return 0
     out = args.out or os.path.join(top, "dbc", f"pixel{args.sources}_fd.dbc")
     try:
-        text = pixel(args.sources, os.path.basename(out))
+        text = pixel(args.sources, f"pixel{args.sources}_fd.dbc")
     except ValueError as e:
         ap.error(str(e))
     with open(out, "w") as f:
