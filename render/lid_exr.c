@@ -268,8 +268,13 @@ static int read_pass(struct reader *r, int pass)
 				ch->user_data_type = EXR_PIXEL_FLOAT;
 			}
 			rv = exr_decoding_choose_default_routines(r->ctxt, 0, &dec);
-			if (rv == EXR_ERR_SUCCESS)
+			/* the chunk is read and decompressed (all channels) by its first batch; the
+			 * others only unpack their channels from the decompressed buffer, which
+			 * saves decompressing a chunk of 1024 channels four times */
+			if (rv == EXR_ERR_SUCCESS && c0 == 0)
 				rv = exr_decoding_run(r->ctxt, 0, &dec);
+			else if (rv == EXR_ERR_SUCCESS)
+				rv = dec.unpack_and_convert_fn(&dec);
 			if (rv != EXR_ERR_SUCCESS) {
 				rc = hl_exr_fail(r->err, -EBADMSG, r->path, "chunk at row %d: %s",
 						 y, hl_exr_why(rv, r->msg));

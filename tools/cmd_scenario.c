@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * hdlamp scenario: a drive as a candump -L log with correct E2E, for replay tests and demos:
- * low beam, high beam, a glare-free window sweeping across, bend left and right, then injected
- * faults (one CRC error, one missing page, one counter jump, 300 ms of silence) and low beam
- * again. --expect writes what a correct receiver must report: every complete cycle of each lamp
- * (counter and raw dimming values) and the fault counters.
+ * hdlamp scenario: a drive as a candump -L log with correct E2E, for replay tests and demos.
+ * HD84 lamps: low beam, high beam, a glare-free window sweeping across, bend left and right;
+ * pixel lamps (hdlamp model --sources N, tools/pixel_drive.h): a moving glare-free window, a
+ * sweeping bar and a ramp, a new pattern every cycle. Then the same injected faults (one CRC
+ * error, one missing page, one counter jump, 300 ms of silence) and N cycles more. --expect
+ * writes what a correct receiver must report: every complete cycle of each lamp (counter and
+ * raw dimming values) and the fault counters.
  */
 #include <errno.h>
 #include <getopt.h>
@@ -17,6 +19,7 @@
 #include "can/candump.h"
 #include "tools/commands.h"
 #include "tools/model.h"
+#include "tools/pixel_drive.h"
 
 #define CYCLE_US 20000 /* ECU period, 50 Hz */
 #define FRAME_GAP_US 400 /* between frames of one cycle on the bus */
@@ -29,6 +32,12 @@ enum fault {
 	FAULT_JUMP, /* the counter skips two values */
 };
 
+enum drive {
+	DRIVE_AUTO, /* hd84 for 95 sources per lamp, else pixel */
+	DRIVE_HD84,
+	DRIVE_PIXEL,
+};
+
 struct gen {
 	struct hl_assembler *a;
 	FILE *log, *expect;
@@ -36,21 +45,30 @@ struct gen {
 	int64_t t_us;
 	unsigned counter[2];
 	uint64_t cycles[2];
+	float *i; /* one lamp's intensities */
 	struct hl_encoded_frame frames[2][HL_ASM_MAX_PARTS];
 };
+
+/* Sets the values of cycle c of a section of n cycles (the fault section's patterns). */
+typedef int (*fill_fn)(const void *ud, int c, int n, struct hl_preset *p);
 
 static void usage(FILE *f)
 {
 	fprintf(f,
 		"usage: hdlamp scenario --dbc FILE --out LOG [--expect FILE] [--iface NAME]\n"
-		"                       [--phase-cycles N] [--start SECONDS]\n"
+		"                       [--phase-cycles N] [--start SECONDS] [--drive hd84|pixel]\n"
 		"\n"
-		"Writes the drive scenario for the HD84 lamps (sources 1..95 of lamps 'left' and\n"
-		"'right' in the DBC) as a candump -L log: N cycles (default 25) each of low beam,\n"
-		"high beam, 2N of a glare-free window sweeping H -20..+20, N bend left, N bend\n"
-		"right, then the faults - a CRC error (left), a missing page (right), a counter\n"
-		"jump by 3 (left), 300 ms of silence - and N cycles of low beam. --expect writes\n"
-		"JSON lines: every complete cycle per lamp, then the expected counters.\n");
+		"Writes a drive scenario for the lamps 'left' and 'right' of the DBC as a candump -L\n"
+		"log. --drive hd84 (the default for 95 sources per lamp, the HD84 lamps): N cycles\n"
+		"(default 25) each of low beam, high beam, 2N of a glare-free window sweeping\n"
+		"H -20..+20, N bend left, N bend right. --drive pixel (the default for any other\n"
+		"number of sources K, the lamps of 'hdlamp model --sources K'): 2N cycles of high\n"
+		"beam with a glare-free window moving H -20..+20, 2N of low beam with a bright bar\n"
+		"sweeping left to right, a new pattern every cycle. Then the faults - a CRC error\n"
+		"(left), a missing page (right), a counter jump by 3 (left), 300 ms of silence - and\n"
+		"N cycles more: HD84 low beam, or pixel values ramping through 0..63 (one step per\n"
+		"cycle). --expect writes JSON lines: every complete cycle per lamp, then the expected\n"
+		"counters.\n");
 }
 
 static void write_frame(struct gen *g, const struct hl_encoded_frame *e)
@@ -72,13 +90,12 @@ static int cycle(struct gen *g, const struct hl_preset *p, int fault_lamp, enum 
 	int n[2];
 
 	for (int l = 0; l < 2; l++) {
-		float i[HL_HD84_SOURCES];
 		const unsigned max = hl_assembler_counter_max(g->a, l);
 
 		if (l == fault_lamp && fault == FAULT_JUMP)
 			g->counter[l] = (g->counter[l] + 2) % (max + 1);
-		hl_preset_intensities(p, l, i);
-		n[l] = hl_assembler_encode(g->a, l, i, g->counter[l], g->frames[l],
+		hl_preset_intensities(p, l, g->i);
+		n[l] = hl_assembler_encode(g->a, l, g->i, g->counter[l], g->frames[l],
 					   HL_ASM_MAX_PARTS);
 		if (n[l] < 0)
 			return n[l];
@@ -89,7 +106,7 @@ static int cycle(struct gen *g, const struct hl_preset *p, int fault_lamp, enum 
 			if (g->expect) {
 				fprintf(g->expect, "{\"lamp\":\"%s\",\"counter\":%u,\"dims\":[",
 					hl_assembler_lamp_name(g->a, l), g->counter[l]);
-				for (int k = 0; k < HL_HD84_SOURCES; k++)
+				for (int k = 0; k < p->n_sources; k++)
 					fprintf(g->expect, "%s%u", k ? "," : "", p->dim[l][k]);
 				fprintf(g->expect, "]}\n");
 			}
@@ -110,7 +127,44 @@ static int cycle(struct gen *g, const struct hl_preset *p, int fault_lamp, enum 
 	return 0;
 }
 
-static int run(struct gen *g, int phase)
+/*
+ * The end of every drive: a CRC error (left), a missing page (right), a counter jump by 3
+ * (left), each followed by a good cycle, 300 ms of silence, then phase cycles; fill (NULL: p
+ * stays) sets each cycle's values. Then the expected counters.
+ */
+static int faults(struct gen *g, struct hl_preset *p, int phase, fill_fn fill, const void *ud)
+{
+	static const struct {
+		int lamp;
+		enum fault fault;
+	} seq[] = {
+		{ 0, FAULT_CRC },   { -1, FAULT_NONE }, { 1, FAULT_MISSING },
+		{ -1, FAULT_NONE }, { 0, FAULT_JUMP },	{ -1, FAULT_NONE },
+	};
+	const int n_faults = (int)(sizeof(seq) / sizeof(seq[0])), n = n_faults + phase;
+	int rc = 0;
+
+	for (int c = 0; c < n && rc == 0; c++) {
+		if (fill)
+			rc = fill(ud, c, n, p);
+		if (c == n_faults)
+			g->t_us += SILENCE_US;
+		if (rc == 0)
+			rc = c < n_faults ? cycle(g, p, seq[c].lamp, seq[c].fault) :
+					    cycle(g, p, -1, FAULT_NONE);
+	}
+	if (rc == 0 && g->expect)
+		fprintf(g->expect,
+			"{\"expect\":\"counters\",\"silence_ms\":%d,"
+			"\"left\":{\"cycles\":%" PRIu64 ",\"crc_errors\":1,\"incomplete\":1,"
+			"\"lost_cycles\":2,\"stale_events\":1,\"recoveries\":1},"
+			"\"right\":{\"cycles\":%" PRIu64 ",\"crc_errors\":0,\"incomplete\":1,"
+			"\"lost_cycles\":0,\"stale_events\":1,\"recoveries\":1}}\n",
+			SILENCE_US / 1000, g->cycles[0], g->cycles[1]);
+	return rc;
+}
+
+static int run_hd84(struct gen *g, int phase)
 {
 	struct hl_lid *lamps[2] = { NULL, NULL };
 	struct hl_preset *p = NULL;
@@ -144,32 +198,39 @@ static int run(struct gen *g, int phase)
 		rc = cycle(g, p, -1, FAULT_NONE);
 	hl_model_hd84_preset("low", lamps, p);
 	if (rc == 0)
-		rc = cycle(g, p, 0, FAULT_CRC);
-	if (rc == 0)
-		rc = cycle(g, p, -1, FAULT_NONE);
-	if (rc == 0)
-		rc = cycle(g, p, 1, FAULT_MISSING);
-	if (rc == 0)
-		rc = cycle(g, p, -1, FAULT_NONE);
-	if (rc == 0)
-		rc = cycle(g, p, 0, FAULT_JUMP);
-	if (rc == 0)
-		rc = cycle(g, p, -1, FAULT_NONE);
-	g->t_us += SILENCE_US;
-	for (int c = 0; c < phase && rc == 0; c++)
-		rc = cycle(g, p, -1, FAULT_NONE);
-	if (rc == 0 && g->expect)
-		fprintf(g->expect,
-			"{\"expect\":\"counters\",\"silence_ms\":%d,"
-			"\"left\":{\"cycles\":%" PRIu64 ",\"crc_errors\":1,\"incomplete\":1,"
-			"\"lost_cycles\":2,\"stale_events\":1,\"recoveries\":1},"
-			"\"right\":{\"cycles\":%" PRIu64 ",\"crc_errors\":0,\"incomplete\":1,"
-			"\"lost_cycles\":0,\"stale_events\":1,\"recoveries\":1}}\n",
-			SILENCE_US / 1000, g->cycles[0], g->cycles[1]);
+		rc = faults(g, p, phase, NULL, NULL);
 out:
 	hl_preset_free(p);
 	hl_lid_free(lamps[0]);
 	hl_lid_free(lamps[1]);
+	return rc;
+}
+
+static int pixel_ramp(const void *layout, int c, int n, struct hl_preset *p)
+{
+	return hl_pixel_drive(layout, HL_PIXEL_RAMP, c, n, p);
+}
+
+static int run_pixel(struct gen *g, int phase, int n_sources)
+{
+	static const enum hl_pixel_phase phases[] = { HL_PIXEL_GLAREFREE, HL_PIXEL_SWEEP };
+	struct hl_pixel_layout layout;
+	struct hl_preset *p = NULL;
+	int rc;
+
+	rc = hl_model_pixel_layout(n_sources, &layout);
+	if (rc == 0)
+		rc = hl_preset_new(n_sources, &p);
+	for (size_t ph = 0; ph < sizeof(phases) / sizeof(phases[0]) && rc == 0; ph++) {
+		for (int c = 0; c < 2 * phase && rc == 0; c++) {
+			rc = hl_pixel_drive(&layout, phases[ph], c, 2 * phase, p);
+			if (rc == 0)
+				rc = cycle(g, p, -1, FAULT_NONE);
+		}
+	}
+	if (rc == 0)
+		rc = faults(g, p, phase, pixel_ramp, &layout);
+	hl_preset_free(p);
 	return rc;
 }
 
@@ -182,6 +243,7 @@ int hl_cmd_scenario(int argc, char **argv)
 		{ "iface", required_argument, NULL, 'i' },
 		{ "phase-cycles", required_argument, NULL, 'n' },
 		{ "start", required_argument, NULL, 's' },
+		{ "drive", required_argument, NULL, 'D' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
@@ -191,11 +253,12 @@ int hl_cmd_scenario(int argc, char **argv)
 	struct hl_dbc *db = NULL;
 	struct hl_dbc_error derr;
 	struct hl_asm_error aerr;
-	int phase = 25, c, rc = HL_EXIT_FAIL;
+	enum drive drive = DRIVE_AUTO;
+	int phase = 25, c, n_src, rc = HL_EXIT_FAIL;
 	char *end;
 
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:D:h", opts, NULL)) != -1) {
 		switch (c) {
 		case 'd':
 			dbc_path = optarg;
@@ -227,6 +290,18 @@ int hl_cmd_scenario(int argc, char **argv)
 				return HL_EXIT_USAGE;
 			}
 			break;
+		case 'D':
+			if (strcmp(optarg, "hd84") == 0) {
+				drive = DRIVE_HD84;
+			} else if (strcmp(optarg, "pixel") == 0) {
+				drive = DRIVE_PIXEL;
+			} else {
+				fprintf(stderr,
+					"hdlamp scenario: --drive '%s': expected hd84 or pixel\n",
+					optarg);
+				return HL_EXIT_USAGE;
+			}
+			break;
 		case 'h':
 			usage(stdout);
 			return HL_EXIT_OK;
@@ -248,11 +323,30 @@ int hl_cmd_scenario(int argc, char **argv)
 		fprintf(stderr, "hdlamp scenario: '%s': %s\n", dbc_path, aerr.msg);
 		goto out;
 	}
-	if (hl_assembler_n_sources(g.a, 0) != HL_HD84_SOURCES ||
-	    hl_assembler_n_sources(g.a, 1) != HL_HD84_SOURCES) {
+	n_src = hl_assembler_n_sources(g.a, 0);
+	if (hl_assembler_n_sources(g.a, 1) != n_src) {
 		fprintf(stderr,
-			"hdlamp scenario: '%s': the HD84 scenario needs 95 sources per lamp\n",
-			dbc_path);
+			"hdlamp scenario: '%s': lamp 'left' has %d sources, 'right' %d; expected the same\n",
+			dbc_path, n_src, hl_assembler_n_sources(g.a, 1));
+		goto out;
+	}
+	if (drive == DRIVE_AUTO)
+		drive = n_src == HL_HD84_SOURCES ? DRIVE_HD84 : DRIVE_PIXEL;
+	if (drive == DRIVE_HD84 && n_src != HL_HD84_SOURCES) {
+		fprintf(stderr,
+			"hdlamp scenario: '%s': the HD84 drive needs 95 sources per lamp, not %d\n",
+			dbc_path, n_src);
+		goto out;
+	}
+	if (drive == DRIVE_PIXEL && n_src > HL_LID_MAX_SOURCES) {
+		fprintf(stderr,
+			"hdlamp scenario: '%s': %d sources per lamp; a pixel lamp has at most %d\n",
+			dbc_path, n_src, HL_LID_MAX_SOURCES);
+		goto out;
+	}
+	g.i = calloc(n_src, sizeof(float));
+	if (!g.i) {
+		fprintf(stderr, "hdlamp scenario: out of memory\n");
 		goto out;
 	}
 	g.log = fopen(out, "we");
@@ -261,7 +355,7 @@ int hl_cmd_scenario(int argc, char **argv)
 			strerror(errno));
 		goto out;
 	}
-	if (run(&g, phase) < 0) {
+	if ((drive == DRIVE_HD84 ? run_hd84(&g, phase) : run_pixel(&g, phase, n_src)) < 0) {
 		fprintf(stderr, "hdlamp scenario: '%s' cannot carry the presets\n", dbc_path);
 		goto out;
 	}
@@ -271,6 +365,7 @@ out:
 		rc = HL_EXIT_FAIL;
 	if (g.expect && fclose(g.expect) != 0)
 		rc = HL_EXIT_FAIL;
+	free(g.i);
 	hl_assembler_free(g.a);
 	hl_dbc_free(db);
 	return rc;

@@ -202,20 +202,50 @@ err_free:
 	return rc;
 }
 
-int hl_model_pixel(int n, struct hl_lid **ret)
+int hl_model_pixel_layout(int n, struct hl_pixel_layout *ret)
 {
-	const float h_min = -20.0f, h_max = 20.0f, v_min = -2.0f, v_max = 4.0f;
-	struct hl_lid_grid grid;
-	struct hl_lid *lid;
-	int n_rows, n_cols, rc;
-	float *dense;
+	struct hl_pixel_layout l = {
+		.n = n,
+		.h_min_deg = -20.0f,
+		.h_max_deg = 20.0f,
+		.v_min_deg = -2.0f,
+		.v_max_deg = 4.0f,
+	};
 
 	if (n < 1 || n > HL_LID_MAX_SOURCES)
 		return -EINVAL;
-	n_rows = (int)lroundf(sqrtf(n * (v_max - v_min) / (h_max - h_min)));
-	if (n_rows < 1)
-		n_rows = 1;
-	n_cols = (n + n_rows - 1) / n_rows;
+	/* cells about square in degrees */
+	l.rows = (int)lroundf(sqrtf(n * (l.v_max_deg - l.v_min_deg) / (l.h_max_deg - l.h_min_deg)));
+	if (l.rows < 1)
+		l.rows = 1;
+	l.cols = (n + l.rows - 1) / l.rows;
+	*ret = l;
+	return 0;
+}
+
+void hl_model_pixel_cell(const struct hl_pixel_layout *l, int k, float *ret_h0, float *ret_h1,
+			 float *ret_v0, float *ret_v1)
+{
+	const float w = (l->h_max_deg - l->h_min_deg) / l->cols;
+	const float h = (l->v_max_deg - l->v_min_deg) / l->rows;
+	const int r = k / l->cols, c = k % l->cols;
+
+	*ret_h0 = l->h_min_deg + c * w;
+	*ret_h1 = *ret_h0 + w;
+	*ret_v1 = l->v_max_deg - r * h;
+	*ret_v0 = *ret_v1 - h;
+}
+
+int hl_model_pixel(int n, struct hl_lid **ret)
+{
+	struct hl_pixel_layout lay;
+	struct hl_lid_grid grid;
+	struct hl_lid *lid;
+	int rc;
+	float *dense;
+
+	if (hl_model_pixel_layout(n, &lay) < 0)
+		return -EINVAL;
 	hl_model_default_grid(&grid);
 	rc = hl_lid_new(n, &grid, false, &lid);
 	if (rc < 0)
@@ -226,10 +256,11 @@ int hl_model_pixel(int n, struct hl_lid **ret)
 		return -ENOMEM;
 	}
 	for (int k = 0; k < n && rc == 0; k++) {
-		const float w = (h_max - h_min) / n_cols, h = (v_max - v_min) / n_rows;
-		const int r = k / n_cols, c = k % n_cols;
-		const float hc = h_min + (c + 0.5f) * w;
-		const float vc = v_max - (r + 0.5f) * h;
+		const float w = (lay.h_max_deg - lay.h_min_deg) / lay.cols;
+		const float h = (lay.v_max_deg - lay.v_min_deg) / lay.rows;
+		const int r = k / lay.cols, c = k % lay.cols;
+		const float hc = lay.h_min_deg + (c + 0.5f) * w;
+		const float vc = lay.v_max_deg - (r + 0.5f) * h;
 		char name[32];
 		struct source_spec s = {
 			.name = name,

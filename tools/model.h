@@ -43,6 +43,22 @@ int hl_model_hd84(enum hl_side side, struct hl_lid **ret);
 /* A pixel lamp: n matrix sources (1..4096) tiling H -20..+20, V -2..+4. 0, -EINVAL, -ENOMEM. */
 int hl_model_pixel(int n, struct hl_lid **ret);
 
+/*
+ * Where hl_model_pixel(n) puts its sources: a grid of rows x cols cells tiling H h_min..h_max,
+ * V v_min..v_max (degrees); source k (0-based) is the cell of row k / cols (row 0 at the top)
+ * and column k % cols (increasing H). The last row may be short: rows * cols >= n.
+ */
+struct hl_pixel_layout {
+	int n, rows, cols;
+	float h_min_deg, h_max_deg, v_min_deg, v_max_deg;
+};
+
+/* 0 or -EINVAL for n outside 1..HL_LID_MAX_SOURCES. */
+int hl_model_pixel_layout(int n, struct hl_pixel_layout *ret);
+/* The cell of source k (0-based), degrees. */
+void hl_model_pixel_cell(const struct hl_pixel_layout *l, int k, float *ret_h0, float *ret_h1,
+			 float *ret_v0, float *ret_v1);
+
 /* Names of the HD84 presets, NULL-terminated: low, high, glarefree, bend_left, bend_right. */
 extern const char *const hl_model_preset_names[];
 

@@ -241,6 +241,54 @@ static void lid_exr_box_is_nonzero_extent(void **state)
 	unlink(path);
 }
 
+/*
+ * More channels than the reader decodes in one batch (16 MB of 16-line blocks: 128 channels of
+ * 2048 samples): the later batches of a chunk unpack from the chunk decompressed by the first.
+ * Every source's box and values come back exactly.
+ */
+static void lid_exr_many_channels_round_trip(void **state)
+{
+	enum { W = 2048, H = 20, N = 300 };
+	struct hl_lid_grid g = { W, H, HL_ANGLES_A, -60.0f, 62.0f, -1.0f, 0.9f };
+	static float dense[W * H];
+	struct hl_lid *lid, *back;
+	struct hl_lid_error err;
+	char path[512];
+	(void)state;
+
+	g.h_last_deg = g.h_first_deg + (W - 1) * 0.05f;
+	g.v_last_deg = g.v_first_deg + (H - 1) * 0.1f;
+	assert_int_equal(hl_lid_new(N, &g, false, &lid), 0);
+	for (int k = 0; k < N; k++) {
+		const int x = (k * 37) % (W - 3), y = k % (H - 4);
+
+		memset(dense, 0, sizeof(dense));
+		dense[y * W + x] = (float)(k + 1);
+		dense[(y + 3) * W + x + 2] = 0.5f * (float)(k + 1);
+		assert_int_equal(hl_lid_set_source(lid, k, dense), 0);
+	}
+	assert_int_equal(hl_lid_write(lid, test_path(path, sizeof(path), "many.lid.exr"), &err), 0);
+	assert_int_equal(hl_lid_read(path, &back, &err), 0);
+	assert_int_equal(hl_lid_n_sources(back), N);
+	for (int k = 0; k < N; k++) {
+		const int x = (k * 37) % (W - 3), y = k % (H - 4);
+		struct hl_lid_box b;
+		const float *s = hl_lid_source(back, k, &b);
+
+		assert_non_null(s);
+		assert_int_equal(b.x0, x);
+		assert_int_equal(b.x1, x + 3);
+		assert_int_equal(b.y0, y);
+		assert_int_equal(b.y1, y + 4);
+		assert_true(s[0] == (float)(k + 1));
+		assert_true(s[3 * 3 + 2] == 0.5f * (float)(k + 1));
+		assert_true(s[1] == 0.0f && s[3 * 3 + 1] == 0.0f);
+	}
+	hl_lid_free(back);
+	hl_lid_free(lid);
+	unlink(path);
+}
+
 static void lid_exr_combined_round_trip(void **state)
 {
 	struct hl_lid_grid g = { 8, 5, HL_ANGLES_B, -4.0f, 3.0f, -2.0f, 2.0f };
@@ -389,6 +437,7 @@ int main(void)
 		cmocka_unit_test(lid_exr_reads_float_channels),
 		cmocka_unit_test(lid_exr_reads_half_channels),
 		cmocka_unit_test(lid_exr_box_is_nonzero_extent),
+		cmocka_unit_test(lid_exr_many_channels_round_trip),
 		cmocka_unit_test(lid_exr_combined_round_trip),
 		cmocka_unit_test(lid_exr_rejects_missing_and_foreign_files),
 		cmocka_unit_test(lid_exr_rejects_channel_faults),
