@@ -445,6 +445,13 @@ static void sphere_scene(struct builder *b, const struct hl_scene *s)
 {
 	const double *c = s->lamps[0].pos_m;
 	const double r = s->sphere_radius_m;
+	/*
+	 * Vertices a little outside, so that every chord plane is at least r from the centre: the
+	 * true sphere (and a sensor on it) stays inside the mesh. half_diag bounds the angle from
+	 * a triangle's vertices to any point of it.
+	 */
+	const double half_diag = hypot(M_PI / SPHERE_LAT, 2 * M_PI / SPHERE_LON) / 2;
+	const double rv = r / cos(half_diag);
 	const double sph[4] = { c[0], c[1], c[2], -r };
 	const double o[3] = { c[0], c[1], c[2] }, d[3] = { 0, 0, 1 };
 	double albedo;
@@ -463,7 +470,7 @@ static void sphere_scene(struct builder *b, const struct hl_scene *s)
 						      cos(th) };
 
 				for (int a = 0; a < 3; a++) {
-					p[k][a] = c[a] + r * u[a];
+					p[k][a] = c[a] + rv * u[a];
 					n[k][a] = -u[a];
 				}
 			}
@@ -554,8 +561,8 @@ enum hl_surface hl_scene_mesh_cast(const struct hl_scene_mesh *m, const double o
 		const double nv[3] = { v->nrm[0], v->nrm[1], v->nrm[2] };
 		double e1[3], e2[3], s[3], pv[3], qv[3], det, u, w, t;
 
-		if (dotd(nv, d) >= 0.0)
-			continue; /* one-sided: seen from behind */
+		if (v->sphere[3] == 0.0f && dotd(nv, d) >= 0.0)
+			continue; /* one-sided flat triangles, seen from behind (as the GLES pass) */
 		/* Möller-Trumbore. */
 		for (int k = 0; k < 3; k++) {
 			e1[k] = (double)v[1].pos[k] - v[0].pos[k];
