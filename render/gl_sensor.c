@@ -465,3 +465,24 @@ int hl_gl_sensor_run(struct hl_gl_sensor *s, size_t count, const double *p, cons
 	}
 	return 0;
 }
+
+int hl_gl_sensor_gi_batch(void *userdata, size_t count, const double *p, const double *n,
+			  double *ret_lx)
+{
+	return hl_gl_sensor_run(userdata, count, p, n, ret_lx);
+}
+
+void hl_gl_sensor_config_for(const struct hl_egl *egl, int size, int aa, int batch,
+			     struct hl_gl_sensor_config *ret)
+{
+	const bool msaa = aa > 1 && hl_egl_float_targets(egl) &&
+			  sample_count_offered(GL_TEXTURE_2D_MULTISAMPLE, GL_R32F, 4) &&
+			  sample_count_offered(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, 4);
+
+	*ret = (struct hl_gl_sensor_config){
+		.size = size,
+		.supersample = msaa ? (aa + 1) / 2 : aa,
+		.msaa = msaa ? 4 : 1,
+		.batch = batch,
+	};
+}

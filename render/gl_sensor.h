@@ -41,6 +41,14 @@ struct hl_gl_sensor_config {
 };
 
 /*
+ * The configuration that gives at least aa x aa samples per texel (the CPU sensors' aa x aa
+ * rays near thin objects): aa 1 none; otherwise 4 multisamples (when the driver offers them)
+ * on ceil(aa / 2) x ceil(aa / 2) sub-texels. Sky black.
+ */
+void hl_gl_sensor_config_for(const struct hl_egl *egl, int size, int aa, int batch,
+			     struct hl_gl_sensor_config *ret);
+
+/*
  * Uploads the mesh; lamps as the headlight pass takes them (1 or 2). The context must offer
  * float targets, EXT_clip_cull_distance and EXT_clip_control. 0, -EINVAL, -ENOTSUP (a missing
  * extension or sample count; log names it), -ENOMEM, -EIO (log says what).
@@ -60,5 +68,8 @@ int hl_gl_sensor_upload(struct hl_gl_sensor *s, int k, const float *dense);
  */
 int hl_gl_sensor_run(struct hl_gl_sensor *s, size_t count, const double *p, const double *n,
 		     double *ret_lx);
+/* The same as an hl_gi_batch_fn (render/gi.h): userdata is the struct hl_gl_sensor. */
+int hl_gl_sensor_gi_batch(void *userdata, size_t count, const double *p, const double *n,
+			  double *ret_lx);
 
 #endif
