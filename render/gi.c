@@ -41,8 +41,7 @@ struct level {
 	const struct hl_gi_config *cfg;
 	const struct hl_hemicube *cube;
 	struct hl_sensor_aa aa;
-	hl_radiance_fn fn;
-	const void *field;
+	const struct hl_gi_sensors *sensors;
 	const struct hl_gbuffer *gb;
 	const struct key *keys;
 	const struct batch *batches;
@@ -50,6 +49,7 @@ struct level {
 	atomic_size_t next;
 	atomic_size_t done;
 	float *val;
+	int rc; /* the batch function's failure; calling thread only */
 	/* progress, calling thread only */
 	size_t done_before, estimated;
 	double last_report_ms;
@@ -60,7 +60,7 @@ struct worker {
 	bool main;
 	pthread_t thread;
 	float *scratch;
-	double *p, *e;
+	double *p, *n, *e;
 };
 
 static double now_ms(void)
@@ -100,13 +100,27 @@ static void *work(void *arg)
 		for (int j = 0; j < 3; j++)
 			n[j] = lv->keys[bt->first].n[j];
 		for (size_t s = 0; s < bt->count; s++) {
-			const float *pos = lv->gb->pos + 4 * (size_t)lv->keys[bt->first + s].pix;
+			const struct key *k = &lv->keys[bt->first + s];
+			const float *pos = lv->gb->pos + 4 * (size_t)k->pix;
 
-			for (int j = 0; j < 3; j++)
+			for (int j = 0; j < 3; j++) {
 				w->p[3 * s + j] = pos[j];
+				w->n[3 * s + j] = k->n[j];
+			}
 		}
-		hl_sensor_batch(lv->cube, lv->fn, lv->field, &lv->aa, n, bt->count, w->p,
-				w->scratch, w->e);
+		if (lv->sensors->fn) {
+			hl_sensor_batch(lv->cube, lv->sensors->fn, lv->sensors->field, &lv->aa, n,
+					bt->count, w->p, w->scratch, w->e);
+		} else {
+			/* Batch functions run on the calling thread only (no workers started). */
+			const int rc = lv->sensors->batch(lv->sensors->userdata, bt->count, w->p,
+							  w->n, w->e);
+
+			if (rc < 0) {
+				lv->rc = rc;
+				break;
+			}
+		}
 		for (size_t s = 0; s < bt->count; s++)
 			lv->val[lv->keys[bt->first + s].pix] = (float)w->e[s];
 		atomic_fetch_add(&lv->done, bt->count);
@@ -136,15 +150,19 @@ static int run_level(struct level *lv, struct worker *workers, int n_workers, st
 		     size_t n, struct batch *batches, size_t *ret_batches)
 {
 	const int bmax = lv->cfg->batch;
+	/* CPU batches share a normal; a batch function takes any mix, so only size cuts. */
+	const bool by_normal = lv->sensors->fn != NULL;
 	size_t nb = 0;
 	int started = 0;
 
+	if (!by_normal)
+		n_workers = 1;
 	qsort(keys, n, sizeof(*keys), cmp_key);
 	for (size_t i = 0; i < n;) {
 		size_t j = i + 1;
 
 		while (j < n && j - i < (size_t)bmax &&
-		       memcmp(keys[j].n, keys[i].n, sizeof(keys[i].n)) == 0)
+		       (!by_normal || memcmp(keys[j].n, keys[i].n, sizeof(keys[i].n)) == 0))
 			j++;
 		batches[nb++] = (struct batch){ i, j - i };
 		i = j;
@@ -154,6 +172,7 @@ static int run_level(struct level *lv, struct worker *workers, int n_workers, st
 	lv->n_batches = nb;
 	atomic_store(&lv->next, 0);
 	atomic_store(&lv->done, 0);
+	lv->rc = 0;
 	for (int t = 1; t < n_workers; t++) {
 		workers[t].lv = lv;
 		if (pthread_create(&workers[t].thread, NULL, work, &workers[t]) != 0)
@@ -166,7 +185,7 @@ static int run_level(struct level *lv, struct worker *workers, int n_workers, st
 	for (int t = 1; t <= started; t++)
 		pthread_join(workers[t].thread, NULL);
 	*ret_batches = nb;
-	return 0;
+	return lv->rc;
 }
 
 static bool same_surface(const struct hl_gbuffer *gb, size_t a, size_t b)
@@ -316,8 +335,107 @@ static bool bad_config(const struct hl_gi_config *cfg)
 	       cfg->aa_samples > 64 || cfg->n_thin < 0 || (cfg->n_thin && !cfg->thin);
 }
 
+static void workers_free(struct worker *workers, int n)
+{
+	for (int t = 0; t < n; t++) {
+		free(workers[t].scratch);
+		free(workers[t].p);
+		free(workers[t].n);
+		free(workers[t].e);
+	}
+}
+
+static int workers_alloc(const struct hl_gi_config *cfg, const struct hl_hemicube *cube,
+			 struct worker *workers)
+{
+	for (int t = 0; t < cfg->threads; t++) {
+		workers[t].main = t == 0;
+		workers[t].scratch = malloc(sizeof(float) * hl_sensor_scratch_floats(cube));
+		workers[t].p = malloc(sizeof(double) * 3 * cfg->batch);
+		workers[t].n = malloc(sizeof(double) * 3 * cfg->batch);
+		workers[t].e = malloc(sizeof(double) * cfg->batch);
+		if (!workers[t].scratch || !workers[t].p || !workers[t].n || !workers[t].e)
+			return -ENOMEM;
+	}
+	return 0;
+}
+
+static bool bad_sensors(const struct hl_gi_sensors *s)
+{
+	return !s || (!s->fn && !s->batch);
+}
+
 int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *field,
 	      const struct hl_gbuffer *gb, float *ret_indirect_lx, struct hl_gi_stats *ret_stats)
+{
+	const struct hl_gi_sensors sensors = { .fn = fn, .field = field };
+
+	return hl_gi_run_sensors(cfg, &sensors, gb, ret_indirect_lx, ret_stats);
+}
+
+int hl_gi_time_batch(const struct hl_gi_config *cfg, const struct hl_gi_sensors *sensors,
+		     const struct hl_gbuffer *gb, double *ret_ms_per_sensor)
+{
+	const size_t npix = (size_t)gb->width * gb->height;
+	struct hl_hemicube *cube = NULL;
+	struct worker workers[HL_GI_MAX_THREADS] = { 0 };
+	struct level lv = { 0 };
+	struct key *keys = NULL;
+	struct batch *batches = NULL;
+	size_t n_surface = 0, n = 0, nb, stride;
+	double t0;
+	int rc;
+
+	if (bad_config(cfg) || bad_sensors(sensors))
+		return -EINVAL;
+	for (size_t i = 0; i < npix; i++)
+		n_surface += gb->nrm[4 * i + 3] != (float)HL_SURF_NONE;
+	if (n_surface == 0)
+		return -EINVAL;
+	rc = hl_hemicube_new(cfg->sensor_size, &cube);
+	if (rc < 0)
+		return rc;
+	keys = malloc(sizeof(*keys) * (size_t)cfg->batch);
+	batches = malloc(sizeof(*batches) * (size_t)cfg->batch);
+	rc = -ENOMEM;
+	if (!keys || !batches || workers_alloc(cfg, cube, workers) < 0)
+		goto out;
+	/* Every stride-th surface pixel. */
+	stride = n_surface > (size_t)cfg->batch ? n_surface / cfg->batch : 1;
+	for (size_t i = 0, k = 0; i < npix && n < (size_t)cfg->batch; i++) {
+		if (gb->nrm[4 * i + 3] == (float)HL_SURF_NONE || k++ % stride)
+			continue;
+		memcpy(keys[n].n, gb->nrm + 4 * i, sizeof(keys[n].n));
+		keys[n++].pix = (uint32_t)i;
+	}
+	lv = (struct level){ .cfg = cfg,
+			     .cube = cube,
+			     .sensors = sensors,
+			     .gb = gb,
+			     .aa = { cfg->thin, cfg->n_thin, cfg->aa_samples } };
+	lv.val = calloc(npix, sizeof(float));
+	if (!lv.val)
+		goto out;
+	/* Warm-up: one sensor, untimed. */
+	rc = run_level(&lv, workers, cfg->threads, keys, 1, batches, &nb);
+	if (rc < 0)
+		goto out;
+	t0 = now_ms();
+	rc = run_level(&lv, workers, cfg->threads, keys, n, batches, &nb);
+	if (rc == 0)
+		*ret_ms_per_sensor = (now_ms() - t0) / n;
+out:
+	workers_free(workers, cfg->threads);
+	free(lv.val);
+	free(keys);
+	free(batches);
+	hl_hemicube_free(cube);
+	return rc;
+}
+
+int hl_gi_run_sensors(const struct hl_gi_config *cfg, const struct hl_gi_sensors *sensors,
+		      const struct hl_gbuffer *gb, float *ret_indirect_lx,
+		      struct hl_gi_stats *ret_stats)
 {
 	const int w = gb->width, h = gb->height;
 	const size_t npix = (size_t)w * h;
@@ -335,7 +453,7 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 	double floor_lx = 0.0, refine_frac = 0.25;
 	int rc;
 
-	if (bad_config(cfg) || w < 2 || h < 2)
+	if (bad_config(cfg) || bad_sensors(sensors) || w < 2 || h < 2)
 		return -EINVAL;
 	rc = hl_hemicube_new(cfg->sensor_size, &cube);
 	if (rc < 0)
@@ -350,22 +468,14 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 	next = malloc(sizeof(*next) * max_cells);
 	acc = malloc(sizeof(*acc) * max_cells);
 	rc = -ENOMEM;
-	if (!state || !val || !keys || !batches || !cells || !next || !acc)
+	if (!state || !val || !keys || !batches || !cells || !next || !acc ||
+	    workers_alloc(cfg, cube, workers) < 0)
 		goto out;
-	for (int t = 0; t < cfg->threads; t++) {
-		workers[t].main = t == 0;
-		workers[t].scratch = malloc(sizeof(float) * hl_sensor_scratch_floats(cube));
-		workers[t].p = malloc(sizeof(double) * 3 * cfg->batch);
-		workers[t].e = malloc(sizeof(double) * cfg->batch);
-		if (!workers[t].scratch || !workers[t].p || !workers[t].e)
-			goto out;
-	}
 	for (size_t i = 0; i < npix; i++)
 		st.surface_pixels += gb->nrm[4 * i + 3] != (float)HL_SURF_NONE;
 	lv = (struct level){ .cfg = cfg,
 			     .cube = cube,
-			     .fn = fn,
-			     .field = field,
+			     .sensors = sensors,
 			     .gb = gb,
 			     .val = val,
 			     .aa = { cfg->thin, cfg->n_thin, cfg->aa_samples },
@@ -450,11 +560,7 @@ int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *fie
 	if (ret_stats)
 		*ret_stats = st;
 out:
-	for (int t = 0; t < cfg->threads; t++) {
-		free(workers[t].scratch);
-		free(workers[t].p);
-		free(workers[t].e);
-	}
+	workers_free(workers, cfg->threads);
 	free(state);
 	free(val);
 	free(keys);

@@ -23,8 +23,13 @@
  * The result is illuminance (lux) like the direct pass's, so total = direct + indirect and a
  * view shows albedo (direct + indirect) / pi.
  *
+ * Sensors run on the CPU (render/sensor.h: a radiance field ray cast on cfg->threads
+ * threads) or through a batch function such as render/gl_sensor.h's GLES sensors, which is
+ * called on the calling thread only (the one that owns the GL context), cfg->batch sensors at a
+ * time; either way the placement, interpolation and filter are the same code.
+ *
  * Thread-safety: hl_gi_run() is called from one thread; it starts and joins its own workers
- * and calls progress only from the calling thread.
+ * (CPU sensors only) and calls progress only from the calling thread.
  */
 #ifndef HL_RENDER_GI_H
 #define HL_RENDER_GI_H
@@ -42,7 +47,7 @@ struct hl_gi_config {
 	double dradiance; /* relative threshold of refinement, > 0 */
 	double sigma_px; /* composition Gaussian, 0 = none */
 	int threads; /* 1..HL_GI_MAX_THREADS */
-	int batch; /* sensors per batch, >= 1 */
+	int batch; /* sensors per batch (CPU: sharing one normal; batch function: per call), >= 1 */
 	int aa_samples; /* supersampling of texels near thin objects, per side; 1 = none */
 	const struct hl_capsule *thin; /* the scene's thin objects (hl_scene_thin_objects) */
 	int n_thin;
@@ -65,12 +70,42 @@ struct hl_gi_stats {
 void hl_gi_config_default(struct hl_gi_config *ret);
 
 /*
- * Indirect illuminance (lux, width * height floats, row 0 at the top; 0 on the sky) of the
- * G-buffer's points in field. 0, -EINVAL (bad config, G-buffer smaller than 2 x 2), -ENOMEM.
- * Threads that cannot be started leave their share to the calling thread.
+ * A batch of sensors evaluated at once: irradiance (lux) at count points p with unit normals n
+ * (3 doubles each) into ret_lx. 0 or -errno (hl_gi_run returns it).
  */
+typedef int (*hl_gi_batch_fn)(void *userdata, size_t count, const double *p, const double *n,
+			      double *ret_lx);
+
+/* Where sensors run: fn and field (CPU, hl_sensor_batch), or batch and userdata when fn is NULL. */
+struct hl_gi_sensors {
+	hl_radiance_fn fn;
+	const void *field;
+	hl_gi_batch_fn batch;
+	void *userdata;
+};
+
+/*
+ * Indirect illuminance (lux, width * height floats, row 0 at the top; 0 on the sky) of the
+ * G-buffer's points. 0, -EINVAL (bad config, G-buffer smaller than 2 x 2), -ENOMEM, or what the
+ * batch function returned. Threads that cannot be started leave their share to the calling
+ * thread.
+ */
+int hl_gi_run_sensors(const struct hl_gi_config *cfg, const struct hl_gi_sensors *sensors,
+		      const struct hl_gbuffer *gb, float *ret_indirect_lx,
+		      struct hl_gi_stats *ret_stats);
+/* The same with CPU sensors over the radiance field fn, field. */
 int hl_gi_run(const struct hl_gi_config *cfg, hl_radiance_fn fn, const void *field,
 	      const struct hl_gbuffer *gb, float *ret_indirect_lx, struct hl_gi_stats *ret_stats);
+
+/*
+ * Wall time per sensor (ms) of one batch of cfg->batch sensors (fewer if the G-buffer has
+ * fewer surface pixels) spread evenly over the G-buffer's surface pixels, run as hl_gi_run
+ * would run them (CPU: cfg->threads threads), after one untimed sensor (shader compilation,
+ * first-touch costs). For choosing a backend. 0, -EINVAL (no surface pixel), -ENOMEM, or what
+ * the batch function returned.
+ */
+int hl_gi_time_batch(const struct hl_gi_config *cfg, const struct hl_gi_sensors *sensors,
+		     const struct hl_gbuffer *gb, double *ret_ms_per_sensor);
 
 /*
  * The composition filter: Gaussian of sigma_px over the pixels of the same surface id as the

@@ -11,9 +11,11 @@
 #include "render/egl.h"
 #include "render/frame_exr.h"
 #include "render/gi.h"
+#include "render/gl_sensor.h"
 #include "render/plot.h"
 #include "render/renderer.h"
 #include "render/scene.h"
+#include "render/scene_mesh.h"
 #include "render/view.h"
 #include "tools/commands.h"
 #include "tools/model.h"
@@ -25,6 +27,7 @@
 
 /* The sensor-based lighting defaults, as hl_gi_config_default() gives them. */
 static struct hl_gi_config GI_DEFAULTS;
+#define GLES_SENSOR_BATCH 128 /* sensors per draw of the GLES sensors */
 
 static void usage(FILE *f)
 {
@@ -66,11 +69,17 @@ static void usage(FILE *f)
 		"                       default %d\n"
 		"  --dradiance X        refine where neighbouring sensors differ by more than X\n"
 		"                       (relative), default %g\n"
-		"  --sensor-aa S        S x S rays per texel near thin objects, default %d (1 = off)\n"
-		"  --gi-threads N       sensor threads, default %d\n",
+		"  --sensor-aa S        S x S samples per texel: CPU rays near thin objects, GLES\n"
+		"                       4x multisampling on (S/2 x S/2)-supersampled faces;\n"
+		"                       default %d (1 = off)\n"
+		"  --sensor-backend B   auto (default) | cpu | gles: where sensors run; auto times\n"
+		"                       one batch of each and keeps the faster\n"
+		"  --sensor-batch N     sensors per batch, default %d (cpu: sharing a normal) or %d\n"
+		"                       (gles: per draw)\n"
+		"  --gi-threads N       CPU sensor threads, default %d\n",
 		DEFAULT_EXPOSURE_EV, BIRD_EXPOSURE_EV, SPHERE_EXPOSURE_EV, GI_DEFAULTS.sensor_size,
-		GI_DEFAULTS.tile, GI_DEFAULTS.dradiance, GI_DEFAULTS.aa_samples,
-		GI_DEFAULTS.threads);
+		GI_DEFAULTS.tile, GI_DEFAULTS.dradiance, GI_DEFAULTS.aa_samples, GI_DEFAULTS.batch,
+		GLES_SENSOR_BATCH, GI_DEFAULTS.threads);
 }
 
 struct options {
@@ -88,6 +97,8 @@ struct options {
 	enum hl_backend backend;
 	bool gi;
 	struct hl_gi_config gi_cfg;
+	enum hl_backend sensor_backend;
+	int sensor_batch; /* 0: the backend's default */
 };
 
 static int parse_doubles(const char *s, double *out, int n)
@@ -163,6 +174,8 @@ static int parse(int argc, char **argv, struct options *o)
 		OPT_DRADIANCE,
 		OPT_SENSOR_AA,
 		OPT_GI_THREADS,
+		OPT_SENSOR_BACKEND,
+		OPT_SENSOR_BATCH,
 	};
 	static const struct option opts[] = {
 		{ "lamps", required_argument, NULL, 'L' },
@@ -190,6 +203,8 @@ static int parse(int argc, char **argv, struct options *o)
 		{ "dradiance", required_argument, NULL, OPT_DRADIANCE },
 		{ "sensor-aa", required_argument, NULL, OPT_SENSOR_AA },
 		{ "gi-threads", required_argument, NULL, OPT_GI_THREADS },
+		{ "sensor-backend", required_argument, NULL, OPT_SENSOR_BACKEND },
+		{ "sensor-batch", required_argument, NULL, OPT_SENSOR_BATCH },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
@@ -331,6 +346,17 @@ static int parse(int argc, char **argv, struct options *o)
 			if (sscanf(optarg, "%d%c", &o->gi_cfg.threads, &tail) != 1 ||
 			    o->gi_cfg.threads < 1 || o->gi_cfg.threads > HL_GI_MAX_THREADS)
 				return bad("--gi-threads", optarg, "1..64");
+			break;
+		case OPT_SENSOR_BACKEND:
+			rc = hl_backend_from_name(optarg);
+			if (rc < 0)
+				return bad("--sensor-backend", optarg, "auto, cpu or gles");
+			o->sensor_backend = rc;
+			break;
+		case OPT_SENSOR_BATCH:
+			if (sscanf(optarg, "%d%c", &o->sensor_batch, &tail) != 1 ||
+			    o->sensor_batch < 1 || o->sensor_batch > 4096)
+				return bad("--sensor-batch", optarg, "1..4096");
 			break;
 		case 'h':
 			usage(stdout);
@@ -528,14 +554,52 @@ static int write_png(const char *path, const uint8_t *rgb, int w, int h)
 	return rc;
 }
 
+/* The GLES sensors over the scene's mesh; NULL with the reason in log when they cannot run. */
+static struct hl_gl_sensor *gles_sensors(const struct options *o, const struct hl_egl *egl,
+					 const struct hl_scene *scene,
+					 const struct hl_sensor_scene *field, char *log,
+					 size_t log_size)
+{
+	struct hl_gl_sensor_config gcfg;
+	struct hl_scene_mesh *mesh;
+	struct hl_gl_sensor *gs = NULL;
+	int rc = hl_scene_mesh_new(scene, &mesh);
+
+	if (rc < 0) {
+		snprintf(log, log_size, "no scene mesh: %s", strerror(-rc));
+		return NULL;
+	}
+	hl_gl_sensor_config_for(egl, o->gi_cfg.sensor_size, o->gi_cfg.aa_samples,
+				o->sensor_batch ? o->sensor_batch : GLES_SENSOR_BATCH, &gcfg);
+	rc = hl_gl_sensor_new(egl, mesh, field->n_lamps, field->lamps, &gcfg, &gs, log, log_size);
+	hl_scene_mesh_free(mesh);
+	for (int k = 0; rc == 0 && k < field->n_lamps; k++)
+		rc = hl_gl_sensor_upload(gs, k, field->dense[k]);
+	if (rc < 0) {
+		if (gs)
+			snprintf(log, log_size, "cannot upload the distributions");
+		hl_gl_sensor_free(gs);
+		return NULL;
+	}
+	return gs;
+}
+
 /*
  * --gi sensor: the indirect illuminance of the G-buffer's points by sensor-based lighting, then
  * the total (direct + indirect) as the display view and the files beside it.
  */
-static int run_gi(struct options *o, const struct hl_scene *scene, const struct hl_camera *cam,
-		  const struct hl_gbuffer *gb, struct hl_renderer *r, const float *direct,
-		  int n_lamps)
+static int run_gi(struct options *o, const struct hl_egl *egl, const struct hl_scene *scene,
+		  const struct hl_camera *cam, const struct hl_gbuffer *gb, struct hl_renderer *r,
+		  const float *direct, int n_lamps)
 {
+	struct hl_gi_sensors cpu = { .fn = hl_sensor_scene_radiance };
+	struct hl_gi_sensors gles = { .batch = hl_gl_sensor_gi_batch };
+	const struct hl_gi_sensors *sensors = &cpu;
+	struct hl_gi_config cpu_cfg, gles_cfg;
+	const struct hl_gi_config *cfg = &cpu_cfg;
+	struct hl_gl_sensor *gs = NULL;
+	enum hl_backend backend = o->sensor_backend;
+	char log[1024] = "", how[96];
 	const size_t n = (size_t)gb->width * gb->height;
 	struct hl_capsule thin[HL_SCENE_MAX_THIN];
 	struct hl_sensor_scene field = { .scene = scene, .n_lamps = n_lamps };
@@ -563,7 +627,58 @@ static int run_gi(struct options *o, const struct hl_scene *scene, const struct 
 	o->gi_cfg.thin = thin;
 	o->gi_cfg.n_thin = hl_scene_thin_objects(scene, thin, HL_SCENE_MAX_THIN);
 	o->gi_cfg.progress = gi_progress;
-	rc = hl_gi_run(&o->gi_cfg, hl_sensor_scene_radiance, &field, gb, ind, &st);
+	cpu.field = &field;
+	cpu_cfg = o->gi_cfg;
+	cpu_cfg.batch = o->sensor_batch ? o->sensor_batch : GI_DEFAULTS.batch;
+	gles_cfg = o->gi_cfg;
+	gles_cfg.batch = o->sensor_batch ? o->sensor_batch : GLES_SENSOR_BATCH;
+	if (backend != HL_BACKEND_CPU) {
+		gs = gles_sensors(o, egl, scene, &field, log, sizeof(log));
+		if (!gs && backend == HL_BACKEND_GLES) {
+			fprintf(stderr,
+				"hdlamp render: --sensor-backend gles: no GLES sensors: %s\n", log);
+			rc = -ENOTSUP;
+			goto out;
+		}
+		if (!gs) {
+			fprintf(stderr, "hdlamp render: gi: no GLES sensors (%s): sensors on cpu\n",
+				log);
+			backend = HL_BACKEND_CPU;
+		}
+		gles.userdata = gs;
+	}
+	if (backend == HL_BACKEND_AUTO) {
+		struct hl_gi_config tc = cpu_cfg, tg = gles_cfg;
+		double ms_cpu = 0.0, ms_gles = 0.0;
+
+		tc.progress = tg.progress = NULL;
+		rc = hl_gi_time_batch(&tc, &cpu, gb, &ms_cpu);
+		if (rc == 0)
+			rc = hl_gi_time_batch(&tg, &gles, gb, &ms_gles);
+		if (rc < 0) {
+			fprintf(stderr, "hdlamp render: gi: timing the sensors failed: %s\n",
+				strerror(-rc));
+			goto out;
+		}
+		backend = ms_gles < ms_cpu ? HL_BACKEND_GLES : HL_BACKEND_CPU;
+		fprintf(stderr,
+			"hdlamp render: gi: one batch: cpu %.3f ms per sensor (%d threads, batch %d), "
+			"gles %.3f ms per sensor (batch %d): sensors on %s\n",
+			ms_cpu, cpu_cfg.threads, cpu_cfg.batch, ms_gles, gles_cfg.batch,
+			hl_backend_name(backend));
+	}
+	if (backend == HL_BACKEND_GLES) {
+		struct hl_gl_sensor_config gcfg;
+
+		sensors = &gles;
+		cfg = &gles_cfg;
+		hl_gl_sensor_config_for(egl, cfg->sensor_size, cfg->aa_samples, cfg->batch, &gcfg);
+		snprintf(how, sizeof(how), "gles, batch %d, %d samples x %dx%d sub-texels",
+			 cfg->batch, gcfg.msaa, gcfg.supersample, gcfg.supersample);
+	} else {
+		snprintf(how, sizeof(how), "cpu, %d threads", cfg->threads);
+	}
+	rc = hl_gi_run_sensors(cfg, sensors, gb, ind, &st);
 	fputc('\n', stderr);
 	if (rc < 0) {
 		fprintf(stderr, "hdlamp render: gi failed: %s\n", strerror(-rc));
@@ -572,20 +687,20 @@ static int run_gi(struct options *o, const struct hl_scene *scene, const struct 
 	fprintf(stderr,
 		"hdlamp render: gi: %zu sensors for %zu surface pixels (%.1fx fewer than one per "
 		"pixel), %d passes, %zu batches, %dx%d hemicube (%d texels, aa %d), %.3f ms per "
-		"sensor (%d threads), sensors %.0f ms, total %.0f ms\n",
+		"sensor (%s), sensors %.0f ms, total %.0f ms\n",
 		st.sensors, st.surface_pixels,
 		st.sensors ? (double)st.surface_pixels / st.sensors : 0.0, st.levels, st.batches,
-		o->gi_cfg.sensor_size, o->gi_cfg.sensor_size,
-		3 * o->gi_cfg.sensor_size * o->gi_cfg.sensor_size, o->gi_cfg.aa_samples,
-		st.sensors ? st.sensor_ms / st.sensors : 0.0, o->gi_cfg.threads, st.sensor_ms,
+		cfg->sensor_size, cfg->sensor_size, 3 * cfg->sensor_size * cfg->sensor_size,
+		cfg->aa_samples, st.sensors ? st.sensor_ms / st.sensors : 0.0, how, st.sensor_ms,
 		st.total_ms);
 	for (size_t i = 0; i < n; i++)
 		total[i] = direct[i] + ind[i];
 
 	memcpy(info.lamps, o->poses, sizeof(info.lamps));
-	snprintf(gi_desc, sizeof(gi_desc), "sensor size=%d tile=%d dradiance=%g aa=%d sensors=%zu",
+	snprintf(gi_desc, sizeof(gi_desc),
+		 "sensor size=%d tile=%d dradiance=%g aa=%d sensors=%zu backend=%s",
 		 o->gi_cfg.sensor_size, o->gi_cfg.tile, o->gi_cfg.dradiance, o->gi_cfg.aa_samples,
-		 st.sensors);
+		 st.sensors, hl_backend_name(backend));
 	info.n_meta = 2;
 	info.meta_names[0] = "hdlamp:gi";
 	info.meta_values[0] = gi_desc;
@@ -623,6 +738,7 @@ static int run_gi(struct options *o, const struct hl_scene *scene, const struct 
 	hl_view_display(gb, total, o->exposure_ev, rgb);
 	rc = write_png(o->out, rgb, gb->width, gb->height);
 out:
+	hl_gl_sensor_free(gs);
 	free(ind);
 	free(total);
 	free(rgba);
@@ -714,7 +830,7 @@ int hl_cmd_render(int argc, char **argv)
 		goto out;
 	}
 	if (o.gi)
-		rc = run_gi(&o, &scene, &cam, gb, r, lux, n_lamps);
+		rc = run_gi(&o, egl, &scene, &cam, gb, r, lux, n_lamps);
 	else
 		rc = o.view == HL_VIEW_LID ? write_lid(&o, r, n_lamps) :
 					     write_image(&o, &cam, gb, lux, n_lamps);

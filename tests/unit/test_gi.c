@@ -20,7 +20,9 @@
 #include <cmocka.h>
 
 #include "render/combine.h"
+#include "render/egl.h"
 #include "render/gi.h"
+#include "render/gl_sensor.h"
 #include "render/headlight.h"
 #include "render/hemicube.h"
 #include "render/scene.h"
@@ -30,6 +32,70 @@
 
 #define DEG (M_PI / 180.0)
 
+#ifdef HL_TEST_GI_GLES
+/* tests/unit/test_gi_gles.c: the placement tests with GLES sensors (render/gl_sensor.h). */
+static struct hl_egl *egl;
+
+static int setup(void **state)
+{
+	struct hl_egl_error err;
+
+	(void)state;
+	if (hl_egl_new(&egl, &err) < 0) {
+		fprintf(stderr, "no EGL: %s\n", err.msg);
+		return -1;
+	}
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	(void)state;
+	hl_egl_free(egl);
+	return 0;
+}
+
+#define BACKEND "gles"
+#define GLES_BATCH 64
+
+static int gi_run(const struct hl_gi_config *cfg, const struct hl_sensor_scene *field,
+		  const struct hl_gbuffer *gb, float *out, struct hl_gi_stats *st)
+{
+	struct hl_gl_sensor_config gcfg;
+	struct hl_gi_config c = *cfg;
+	struct hl_scene_mesh *mesh;
+	struct hl_gl_sensor *s;
+	struct hl_gi_sensors sensors = { .batch = hl_gl_sensor_gi_batch };
+	char log[1024] = "";
+	int rc;
+
+	assert_int_equal(hl_scene_mesh_new(field->scene, &mesh), 0);
+	hl_gl_sensor_config_for(egl, cfg->sensor_size, cfg->aa_samples, GLES_BATCH, &gcfg);
+	gcfg.sky_cd_m2 = field->sky_cd_m2;
+	rc = hl_gl_sensor_new(egl, mesh, field->n_lamps, field->lamps, &gcfg, &s, log, sizeof(log));
+	if (rc < 0)
+		fprintf(stderr, "gl_sensor: %s\n", log);
+	assert_int_equal(rc, 0);
+	for (int k = 0; k < field->n_lamps; k++)
+		assert_int_equal(hl_gl_sensor_upload(s, k, field->dense[k]), 0);
+	sensors.userdata = s;
+	c.batch = GLES_BATCH;
+	rc = hl_gi_run_sensors(&c, &sensors, gb, out, st);
+	hl_gl_sensor_free(s);
+	hl_scene_mesh_free(mesh);
+	return rc;
+}
+#else
+#define BACKEND "cpu"
+
+static int gi_run(const struct hl_gi_config *cfg, const struct hl_sensor_scene *field,
+		  const struct hl_gbuffer *gb, float *out, struct hl_gi_stats *st)
+{
+	return hl_gi_run(cfg, hl_sensor_scene_radiance, field, gb, out, st);
+}
+#endif
+
+#ifndef HL_TEST_GI_GLES
 /* Midpoint quadrature of the projected solid angle of a front-face rectangle. */
 static double front_brute(double x0, double x1, double y0, double y1, int n)
 {
@@ -261,6 +327,8 @@ static void sensor_supersampling_removes_post_aliasing(void **state)
 	hl_hemicube_free(h512);
 }
 
+#endif
+
 /* The energy check's lamp: one smooth source, wide enough to light the floor near the lamp. */
 #define BOUNCE_PEAK_CD 20000.0
 #define BOUNCE_PITCH_DEG (-10.0)
@@ -372,9 +440,9 @@ static void gi_energy_check_bounce_wall(void **state)
 	cfg.tile = 4;
 	cfg.dradiance = 0.1;
 	cfg.sigma_px = 0.0;
-	assert_int_equal(hl_gi_run(&cfg, hl_sensor_scene_radiance, &field, gb, ind, &st), 0);
-	printf("bounce %dx%d: %zu sensors of %zu surface pixels, %.3f ms per sensor\n", w, h,
-	       st.sensors, st.surface_pixels, st.sensor_ms / st.sensors);
+	assert_int_equal(gi_run(&cfg, &field, gb, ind, &st), 0);
+	printf(BACKEND ": bounce %dx%d: %zu sensors of %zu surface pixels, %.3f ms per sensor\n", w,
+	       h, st.sensors, st.surface_pixels, st.sensor_ms / st.sensors);
 	/* Wall pixels on a coarse grid, away from its edges. */
 	for (int row = 2; row < h; row += 5)
 		for (int col = 3; col < w; col += 9) {
@@ -394,7 +462,7 @@ static void gi_energy_check_bounce_wall(void **state)
 			sum_e += ref;
 			n++;
 		}
-	printf("energy check: %d wall points, worst error %.2f %%\n", n, 100 * worst);
+	printf(BACKEND ": energy check: %d wall points, worst error %.2f %%\n", n, 100 * worst);
 	assert_true(n >= 6);
 	assert_true(sum_e / n > 0.01); /* the wall is lit by the bounce, clearly */
 	assert_true(worst < 0.05);
@@ -469,7 +537,7 @@ static void gi_sphere_interior_is_uniform(void **state)
 	hl_gi_config_default(&cfg);
 	cfg.tile = 4;
 	cfg.sigma_px = 0.0;
-	assert_int_equal(hl_gi_run(&cfg, hl_sensor_scene_radiance, &field, gb, ind, &st), 0);
+	assert_int_equal(gi_run(&cfg, &field, gb, ind, &st), 0);
 	expect = gb->albedo[0] * phi / (4 * M_PI * scene.sphere_radius_m * scene.sphere_radius_m);
 	for (int i = 0; i < w * h; i++) {
 		lo = fmin(lo, ind[i]);
@@ -477,7 +545,8 @@ static void gi_sphere_interior_is_uniform(void **state)
 		sum += ind[i];
 		n++;
 	}
-	printf("sphere interior: flux %.1f lm, expected %.5f lx everywhere; %zu sensors: mean "
+	printf(BACKEND
+	       ": sphere interior: flux %.1f lm, expected %.5f lx everywhere; %zu sensors: mean "
 	       "%.5f (%+.2f %%), min %+.2f %%, max %+.2f %%\n",
 	       phi, expect, st.sensors, sum / n, 100 * (sum / n - expect) / expect,
 	       100 * (lo - expect) / expect, 100 * (hi - expect) / expect);
@@ -547,9 +616,9 @@ static void gi_adaptive_road_matches_sensor_per_pixel(void **state)
 	cfg.n_thin = hl_scene_thin_objects(&scene, thin, HL_SCENE_MAX_THIN);
 	cfg.thin = thin;
 	cfg.tile = 1;
-	assert_int_equal(hl_gi_run(&cfg, hl_sensor_scene_radiance, &field, gb, ref, &full), 0);
+	assert_int_equal(gi_run(&cfg, &field, gb, ref, &full), 0);
 	cfg.tile = 8;
-	assert_int_equal(hl_gi_run(&cfg, hl_sensor_scene_radiance, &field, gb, ind, &adapt), 0);
+	assert_int_equal(gi_run(&cfg, &field, gb, ind, &adapt), 0);
 	assert_int_equal(full.sensors, full.surface_pixels);
 	for (size_t i = 0; i < (size_t)w * h; i++) {
 		const float id = gb->nrm[4 * i + 3];
@@ -568,7 +637,8 @@ static void gi_adaptive_road_matches_sensor_per_pixel(void **state)
 			n_far++;
 		}
 	}
-	printf("road %dx%d, 32x32 hemicube: one per pixel %zu sensors (%.3f ms each), adaptive "
+	printf(BACKEND
+	       ": road %dx%d, 32x32 hemicube: one per pixel %zu sensors (%.3f ms each), adaptive "
 	       "%zu sensors (%.3f ms each, %d passes): %.1fx fewer, mean error %.3f %%\n",
 	       w, h, full.sensors, full.sensor_ms / full.sensors, adapt.sensors,
 	       adapt.sensor_ms / adapt.sensors, adapt.levels, (double)full.sensors / adapt.sensors,
@@ -588,6 +658,7 @@ static void gi_adaptive_road_matches_sensor_per_pixel(void **state)
 	free(ind);
 }
 
+#ifndef HL_TEST_GI_GLES
 static void gi_filter_keeps_surfaces_apart(void **state)
 {
 	struct hl_gbuffer *gb;
@@ -637,19 +708,27 @@ static void gi_rejects_bad_config(void **state)
 	hl_gbuffer_free(gb);
 }
 
+#endif
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+#ifndef HL_TEST_GI_GLES
 		cmocka_unit_test(hemicube_weights_are_projected_solid_angles),
 		cmocka_unit_test(sensor_uniform_sky_gives_pi_l),
 		cmocka_unit_test(sensor_cosine_sky_and_grazing_band),
 		cmocka_unit_test(sensor_supersampling_removes_post_aliasing),
 		cmocka_unit_test(gi_filter_keeps_surfaces_apart),
 		cmocka_unit_test(gi_rejects_bad_config),
+#endif
 		cmocka_unit_test(gi_energy_check_bounce_wall),
 		cmocka_unit_test(gi_sphere_interior_is_uniform),
 		cmocka_unit_test(gi_adaptive_road_matches_sensor_per_pixel),
 	};
 
+#ifdef HL_TEST_GI_GLES
+	return cmocka_run_group_tests(tests, setup, teardown);
+#else
 	return cmocka_run_group_tests(tests, NULL, NULL);
+#endif
 }
