@@ -150,11 +150,12 @@ int hl_live_status_json(struct live *lv, char *buf, size_t size)
 			"%s{\"name\":\"%s\",\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
 			",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
 			",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
-			",\"stale_events\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64 "}",
+			",\"stale_events\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64
+			",\"cycles_not_rendered\":%" PRIu64 "}",
 			l ? "," : "", hl_assembler_lamp_name(lv->a, l),
 			st.stale[l] ? "true" : "false", st.stale[l] ? "true" : "false", c->cycles,
 			c->crc_errors, c->incomplete, c->lost_cycles, c->repeated_frames,
-			c->stale_events, pc.failsafe_frames[l]);
+			c->stale_events, pc.failsafe_frames[l], pc.cycles_not_rendered[l]);
 	}
 	fprintf(f,
 		"],\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
@@ -215,6 +216,11 @@ int hl_live_metrics(struct live *lv, char *buf, size_t size)
 	LAMP_COUNTER("duplicate_frames_total", repeated_frames, "Repeated frames ignored.")
 	LAMP_COUNTER("stale_events_total", stale_events, "Times the lamp became stale.")
 #undef LAMP_COUNTER
+	fprintf(f, "# HELP hdlamp_cycles_not_rendered_total Complete cycles no rendered frame "
+		   "showed.\n# TYPE hdlamp_cycles_not_rendered_total counter\n");
+	for (int l = 0; l < lv->n_lamps; l++)
+		fprintf(f, "hdlamp_cycles_not_rendered_total{lamp=\"%s\"} %" PRIu64 "\n",
+			hl_assembler_lamp_name(lv->a, l), pc.cycles_not_rendered[l]);
 	fprintf(f, "# HELP hdlamp_lamp_stale Whether the lamp is stale (fail-safe active).\n"
 		   "# TYPE hdlamp_lamp_stale gauge\n");
 	for (int l = 0; l < lv->n_lamps; l++)

@@ -326,8 +326,13 @@ static void render(struct hl_pipeline *p)
 	}
 	pthread_mutex_unlock(&p->lock);
 
-	for (int l = 0; l < p->n_lamps; l++)
+	pthread_mutex_lock(&p->lock);
+	for (int l = 0; l < p->n_lamps; l++) {
+		if (s->lamps[l].cycle_seq > p->last_seq[l] + 1)
+			p->c.cycles_not_rendered[l] += s->lamps[l].cycle_seq - p->last_seq[l] - 1;
 		p->last_seq[l] = s->lamps[l].cycle_seq;
+	}
+	pthread_mutex_unlock(&p->lock);
 	if (f && p->view == HL_VIEW_DISPLAY) {
 		/* tone-mapped band by band while the band's illuminance is in the cache */
 		struct display_job j = { p->gb, ev, f->pixels };

@@ -29,6 +29,13 @@ struct hl_pipeline_counts {
 	uint64_t frames; /* rendered and published */
 	uint64_t not_published; /* rendered, but every pool frame was held by readers */
 	uint64_t failsafe_frames[2]; /* frames with the lamp's fail-safe active */
+	/*
+	 * Complete cycles of the lamp that no rendered frame showed: the lamp's cycle_seq moved on
+	 * by more than one between two frames (the render thread was busy for two of its cycles),
+	 * or cycles came before the first frame. Superseded ring snapshots are not lost cycles as
+	 * long as the newer snapshot carries each lamp's next cycle: this counts what was lost.
+	 */
+	uint64_t cycles_not_rendered[2];
 	double render_ms_last, render_ms_max;
 	/* render time histogram, ms: <= 1, 2, 5, 10, 20, 50, 100, +inf */
 	uint64_t render_ms_buckets[8];

@@ -149,13 +149,32 @@ def test_one_frame_per_ecu_cycle_shows_both_lamps(hdlamp, lamps, tmp_path):
     for key in ("cycle_seq_left", "cycle_seq_right"):
         seen = sorted({h[key] for h in hs if h[key]})
         assert seen == list(range(seen[0], seen[-1] + 1))
+    # the daemon's own count agrees: no cycle of either lamp went unrendered
+    for lamp in ("left", "right"):
+        assert lamp_status(summary, lamp)["cycles_not_rendered"] == 0, summary
     # rendering starts right after the snapshot it shows (the later lamp's), not a period later
     assert max(h["t_render_start_ns"] - h["t_cycle_done_ns"] for h in hs) < 20e6
     # coalesce_ms = 0: a frame per lamp cycle, each showing one lamp's new cycle
     hs0, _ = frames_of_replay(hdlamp, lamps, tmp_path / "0", "--set", "render.coalesce_ms=0")
     both0, single0 = both_and_single(hs0)
     print(f"not coalesced: {both0} frames with both lamps' next cycle, {single0} with one")
-    assert single0 >= 30 and len(hs0) > 1.7 * len(hs)
+    # (two frames per ECU cycle at best; a loaded machine merges a few when a render runs long)
+    assert single0 >= 30 and len(hs0) > 1.5 * len(hs)
+
+
+def test_cycles_not_rendered_counts_exactly_what_no_frame_showed(hdlamp, lamps, tmp_path):
+    # a fixed output rate of 10 Hz shows about one ECU cycle in five; the daemon counts the
+    # others per lamp, and the count equals the cycles missing from the frames the client got
+    hs, summary = frames_of_replay(hdlamp, lamps, tmp_path, "--set", "render.rate_hz=10")
+    assert summary["stream"]["frames_skipped"] == 0
+    assert [h["seq"] for h in hs] == list(range(hs[0]["seq"], hs[0]["seq"] + len(hs)))
+    assert hs[0]["seq"] == 1  # the client saw every frame the daemon published
+    for lamp in ("left", "right"):
+        shown = {h["cycle_seq_" + lamp] for h in hs if h["cycle_seq_" + lamp]}
+        expected = max(shown) - len(shown)
+        got = lamp_status(summary, lamp)["cycles_not_rendered"]
+        print(f"{lamp}: {len(shown)} cycles shown of {max(shown)}, not rendered {got}")
+        assert got == expected and got > 2 * len(shown)
 
 
 def test_stalled_client_does_not_slow_the_other(hdlamp, lamps, tmp_path):
