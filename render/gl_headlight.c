@@ -21,17 +21,16 @@ struct hl_gl_headlight {
 	float *scratch;
 };
 
-/* The shader with "#define HL_PASS pass" after its #version line. */
+/* The shader with "#define HL_PASS pass" and the lamp lookup after its #version line. */
 static int build(int pass, GLuint *ret, char *log, size_t log_size)
 {
-	const char *body = strchr(hl_shader_headlight_frag, '\n');
-	const size_t n = strlen(hl_shader_headlight_frag) + 64;
-	char *src = malloc(n);
+	char define[32], *src;
 	int rc;
 
+	snprintf(define, sizeof(define), "#define HL_PASS %d", pass);
+	src = hl_shader_compose(hl_shader_headlight_frag, define, hl_shader_lamp_lookup);
 	if (!src)
 		return -ENOMEM;
-	snprintf(src, n, "#version 300 es\n#define HL_PASS %d%s", pass, body ? body : "");
 	rc = hl_shader_build(hl_shader_quad_vert, src, ret, log, log_size);
 	free(src);
 	return rc;
@@ -39,8 +38,6 @@ static int build(int pass, GLuint *ret, char *log, size_t log_size)
 
 static void set_uniforms(struct hl_gl_headlight *h, GLuint program)
 {
-	GLint loc;
-
 	glUseProgram(program);
 	glUniform1i(glGetUniformLocation(program, "u_pos"), 0);
 	glUniform1i(glGetUniformLocation(program, "u_nrm"), 1);
@@ -48,36 +45,7 @@ static void set_uniforms(struct hl_gl_headlight *h, GLuint program)
 	glUniform1i(glGetUniformLocation(program, "u_lid1"), 3);
 	glUniform1i(glGetUniformLocation(program, "u_terms0"), 4);
 	glUniform1i(glGetUniformLocation(program, "u_terms1"), 5);
-	glUniform1i(glGetUniformLocation(program, "u_n_lamps"), h->n_lamps);
-	for (int k = 0; k < h->n_lamps; k++) {
-		const struct hl_headlight_lamp *l = &h->lamps[k];
-		const struct hl_lid_grid *g = &l->grid;
-		double ax[3], ay[3], az[3];
-		float m[9], p[3];
-		char name[64];
-
-		hl_lamp_basis(&l->pose, ax, ay, az);
-		/* Column-major: lamp = M w, so row r of M is lamp axis r. */
-		for (int i = 0; i < 3; i++) {
-			m[i * 3 + 0] = (float)ax[i];
-			m[i * 3 + 1] = (float)ay[i];
-			m[i * 3 + 2] = (float)az[i];
-			p[i] = (float)l->pose.pos_m[i];
-		}
-		snprintf(name, sizeof(name), "u_lamp_pos[%d]", k);
-		glUniform3fv(glGetUniformLocation(program, name), 1, p);
-		snprintf(name, sizeof(name), "u_lamp_to_lamp[%d]", k);
-		glUniformMatrix3fv(glGetUniformLocation(program, name), 1, GL_FALSE, m);
-		snprintf(name, sizeof(name), "u_angles[%d]", k);
-		glUniform1i(glGetUniformLocation(program, name), g->angles == HL_ANGLES_A ? 0 : 1);
-		snprintf(name, sizeof(name), "u_grid[%d]", k);
-		loc = glGetUniformLocation(program, name);
-		glUniform4f(loc, g->h_first_deg, g->v_last_deg,
-			    (g->width - 1) / (g->h_last_deg - g->h_first_deg),
-			    (g->height - 1) / (g->v_last_deg - g->v_first_deg));
-		snprintf(name, sizeof(name), "u_grid_size[%d]", k);
-		glUniform2i(glGetUniformLocation(program, name), g->width, g->height);
-	}
+	hl_gl_lamp_uniforms(program, h->n_lamps, h->lamps);
 }
 
 /* PRECOMPUTED: the terms pass, once per lamp, into its RGBA32F texture. */

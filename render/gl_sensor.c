@@ -56,35 +56,7 @@ static void lamp_uniforms(const struct hl_gl_sensor *s, GLuint program)
 {
 	glUniform1i(glGetUniformLocation(program, "u_lid0"), 1);
 	glUniform1i(glGetUniformLocation(program, "u_lid1"), 2);
-	glUniform1i(glGetUniformLocation(program, "u_n_lamps"), s->n_lamps);
-	for (int k = 0; k < s->n_lamps; k++) {
-		const struct hl_headlight_lamp *l = &s->lamps[k];
-		const struct hl_lid_grid *g = &l->grid;
-		double ax[3], ay[3], az[3];
-		float m[9], p[3];
-		char name[64];
-
-		hl_lamp_basis(&l->pose, ax, ay, az);
-		/* Column-major: lamp = M w, so row r of M is lamp axis r (as gl_headlight.c). */
-		for (int i = 0; i < 3; i++) {
-			m[i * 3 + 0] = (float)ax[i];
-			m[i * 3 + 1] = (float)ay[i];
-			m[i * 3 + 2] = (float)az[i];
-			p[i] = (float)l->pose.pos_m[i];
-		}
-		snprintf(name, sizeof(name), "u_lamp_pos[%d]", k);
-		glUniform3fv(glGetUniformLocation(program, name), 1, p);
-		snprintf(name, sizeof(name), "u_lamp_to_lamp[%d]", k);
-		glUniformMatrix3fv(glGetUniformLocation(program, name), 1, GL_FALSE, m);
-		snprintf(name, sizeof(name), "u_angles[%d]", k);
-		glUniform1i(glGetUniformLocation(program, name), g->angles == HL_ANGLES_A ? 0 : 1);
-		snprintf(name, sizeof(name), "u_grid[%d]", k);
-		glUniform4f(glGetUniformLocation(program, name), g->h_first_deg, g->v_last_deg,
-			    (g->width - 1) / (g->h_last_deg - g->h_first_deg),
-			    (g->height - 1) / (g->v_last_deg - g->v_first_deg));
-		snprintf(name, sizeof(name), "u_grid_size[%d]", k);
-		glUniform2i(glGetUniformLocation(program, name), g->width, g->height);
-	}
+	hl_gl_lamp_uniforms(program, s->n_lamps, s->lamps);
 }
 
 /*
@@ -234,6 +206,7 @@ int hl_gl_sensor_new(const struct hl_egl *egl, const struct hl_scene_mesh *mesh,
 	static const char *const needed[] = { "GL_EXT_clip_cull_distance", "GL_EXT_clip_control" };
 	struct hl_gl_sensor *s;
 	GLint max_size = 0;
+	char *scene_frag;
 	int rc;
 
 	if (n_lamps < 1 || n_lamps > HL_HEADLIGHT_MAX_LAMPS || cfg->size < 2 ||
@@ -285,8 +258,11 @@ int hl_gl_sensor_new(const struct hl_egl *egl, const struct hl_scene_mesh *mesh,
 		rc = -ENOMEM;
 		goto err_free;
 	}
-	rc = hl_shader_build(hl_shader_sensor_scene_vert, hl_shader_sensor_scene_frag,
-			     &s->scene_prog, log, log_size);
+	scene_frag = hl_shader_compose(hl_shader_sensor_scene_frag, "", hl_shader_lamp_lookup);
+	rc = scene_frag ? hl_shader_build(hl_shader_sensor_scene_vert, scene_frag, &s->scene_prog,
+					  log, log_size) :
+			  -ENOMEM;
+	free(scene_frag);
 	if (rc == 0)
 		rc = hl_shader_build(hl_shader_sensor_quad_vert, hl_shader_sensor_rows_frag,
 				     &s->rows_prog, log, log_size);

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/scene_layout.h"
+
 #define DEG (M_PI / 180.0)
 
 /* Reflectances (albedo) of the surfaces. */
@@ -18,24 +20,6 @@
 #define ALBEDO_WALL_LINE 0.25
 #define ALBEDO_SPHERE 0.5
 #define ALBEDO_GRID 0.45
-
-#define ROAD_START_M (-10.0) /* the road runs on under and behind the vehicle */
-#define MARK_EDGE_Y_M 3.35 /* centre of the solid edge lines */
-#define MARK_EDGE_W_M 0.15
-#define MARK_CENTRE_W_M 0.12
-#define DASH_M 3.0 /* centre line: 3 m dash, 6 m gap */
-#define DASH_PERIOD_M 9.0
-#define POST_Y_M 4.25 /* posts half a metre beyond the shoulder line */
-#define POST_SIDE_M 0.12
-#define POST_HEIGHT_M 1.0
-#define POST_STEP_M 10.0
-#define GRASS_HALF_WIDTH_M 40.0
-#define GRID_STEP_M 10.0
-#define GRID_LINE_M 0.25
-#define WALL_HALF_WIDTH_M 20.0
-#define WALL_HEIGHT_M 10.0
-#define WALL_LINE_DEG 0.25 /* lines 0.25° wide, as seen from the lamps */
-#define WALL_STEP_DEG 5.0
 
 static const char *const names[] = { "sphere", "wall", "road", "bird", "bounce" };
 

@@ -10,27 +10,11 @@
 #define DEG (M_PI / 180.0)
 
 /*
- * Where the paint of the built-in scenes changes: the same values as render/scene.c's (which
- * keeps them private). Only the edges come from here; what lies between two edges is asked
- * of hl_scene_cast, and tests/unit/test_scene_mesh.c casts rays through both.
+ * Where the paint of the built-in scenes changes comes from render/scene_layout.h (shared with
+ * render/scene.c). Only the edges come from there; what lies between two edges is asked of
+ * hl_scene_cast, and tests/unit/test_scene_mesh.c casts rays through both.
  */
-#define ROAD_START_M (-10.0)
-#define MARK_EDGE_Y_M 3.35
-#define MARK_EDGE_W_M 0.15
-#define MARK_CENTRE_W_M 0.12
-#define DASH_M 3.0
-#define DASH_PERIOD_M 9.0
-#define POST_Y_M 4.25
-#define POST_SIDE_M 0.12
-#define POST_HEIGHT_M 1.0
-#define POST_STEP_M 10.0
-#define GRASS_HALF_WIDTH_M 40.0
-#define GRID_STEP_M 10.0
-#define GRID_LINE_M 0.25
-#define WALL_HALF_WIDTH_M 20.0
-#define WALL_HEIGHT_M 10.0
-#define WALL_LINE_DEG 0.25
-#define WALL_STEP_DEG 5.0
+#include "render/scene_layout.h"
 
 #define CHORD_TOL_M 1e-3 /* how far a chord of a curved wall line may be from the curve */
 #define MIN_COLUMN_M 1e-3 /* wall columns are not split below this */

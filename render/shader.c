@@ -3,6 +3,8 @@
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 static GLuint compile(GLenum type, const char *src, char *log, size_t log_size)
 {
@@ -64,4 +66,21 @@ int hl_shader_build(const char *vertex_src, const char *fragment_src, GLuint *re
 	}
 	*ret_program = prog;
 	return 0;
+}
+
+char *hl_shader_compose(const char *main_src, const char *defines, const char *include)
+{
+	const char *body = strchr(main_src, '\n');
+	size_t n;
+	char *src;
+
+	if (!body || strncmp(main_src, "#version", 8) != 0)
+		return NULL;
+	n = strlen(main_src) + strlen(defines) + strlen(include) + 32;
+	src = malloc(n);
+	if (!src)
+		return NULL;
+	snprintf(src, n, "%.*s\n%s\n%s\n#line 2\n%s", (int)(body - main_src), main_src, defines,
+		 include, body + 1);
+	return src;
 }

@@ -20,4 +20,12 @@
 int hl_shader_build(const char *vertex_src, const char *fragment_src, GLuint *ret_program,
 		    char *log, size_t log_size);
 
+/*
+ * A shader source built from parts: main_src's #version line, then defines (lines, may be
+ * empty), then include (a shared part such as render/shaders/lamp_lookup.glsl), then the rest
+ * of main_src after a #line directive (so the compiler's line numbers are main_src's).
+ * Allocated; the caller frees it. NULL when out of memory or main_src has no #version line.
+ */
+char *hl_shader_compose(const char *main_src, const char *defines, const char *include);
+
 #endif

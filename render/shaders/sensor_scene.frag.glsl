@@ -2,19 +2,8 @@
 // What a sensor sees: the directly lit scene, luminance rho E / pi (cd/m^2) per fragment, E from
 // both lamps exactly as the live headlight pass (headlight.frag.glsl) computes it: the point in
 // lamp space, H/V in the lamp's angle system, bilinear lookup with samples at texel centres and
-// zero outside the grid, E = I cos(eps) / r^2. The sky is the clear colour.
-precision highp float;
-precision highp int;
-
-uniform highp sampler2D u_lid0; // combined distributions (R32F, cd), row 0 = highest V
-uniform highp sampler2D u_lid1;
-uniform int u_n_lamps;
-uniform vec3 u_lamp_pos[2]; // lamp positions (m)
-uniform mat3 u_lamp_to_lamp[2]; // vehicle frame to lamp space (+x right, +y up, +z axis)
-uniform int u_angles[2]; // 0: type A, 1: type B
-uniform vec4 u_grid[2]; // h_first_deg, v_last_deg, columns per degree, rows per degree
-uniform ivec2 u_grid_size[2]; // samples in H and V
-
+// zero outside the grid, E = I cos(eps) / r^2 (lamp_lookup.glsl, inserted after the #version
+// line by render/gl_sensor.c). The sky is the clear colour.
 centroid in vec3 v_pos;
 centroid in vec3 v_nrm;
 flat in float v_albedo;
@@ -22,47 +11,11 @@ flat in vec4 v_sphere;
 
 out vec4 o_out;
 
-// Sample coordinates of lamp-space direction d; negative when outside the measured grid.
-vec2 sample_coords(int k, vec3 d)
-{
-	float h, v;
-	if (u_angles[k] == 0) {
-		h = degrees(atan(d.x, d.z));
-		v = degrees(atan(d.y, length(d.xz)));
-	} else {
-		v = degrees(atan(d.y, d.z));
-		h = degrees(atan(d.x, length(d.yz)));
-	}
-	vec2 f = vec2((h - u_grid[k].x) * u_grid[k].z, (u_grid[k].y - v) * u_grid[k].w);
-	vec2 last = vec2(u_grid_size[k] - 1);
-	if (any(lessThan(f, vec2(0.0))) || any(greaterThan(f, last)))
-		return vec2(-1.0);
-	return f;
-}
-
-float bilinear(highp sampler2D lid, int k, vec2 f)
-{
-	ivec2 c = min(ivec2(f), u_grid_size[k] - 2);
-	vec2 t = f - vec2(c);
-	float s00 = texelFetch(lid, c, 0).r;
-	float s01 = texelFetch(lid, c + ivec2(1, 0), 0).r;
-	float s10 = texelFetch(lid, c + ivec2(0, 1), 0).r;
-	float s11 = texelFetch(lid, c + ivec2(1, 1), 0).r;
-	return mix(mix(s00, s01, t.x), mix(s10, s11, t.x), t.y);
-}
-
 // Illuminance (lux) of lamp k at point p with unit normal n.
 float lamp(highp sampler2D lid, int k, vec3 p, vec3 n)
 {
-	vec3 w = p - u_lamp_pos[k];
-	float r2 = dot(w, w);
-	if (!(r2 > 0.0))
-		return 0.0;
-	float cos_eps = -dot(n, w) * inversesqrt(r2);
-	if (cos_eps <= 0.0)
-		return 0.0;
-	vec2 f = sample_coords(k, u_lamp_to_lamp[k] * w);
-	return f.x < 0.0 ? 0.0 : cos_eps / r2 * bilinear(lid, k, f);
+	vec3 t = terms(k, p, n);
+	return t.z > 0.0 ? t.z * bilinear(lid, k, t.xy) : 0.0;
 }
 
 void main()

@@ -34,26 +34,7 @@
 
 #ifdef HL_TEST_GI_GLES
 /* tests/unit/test_gi_gles.c: the placement tests with GLES sensors (render/gl_sensor.h). */
-static struct hl_egl *egl;
-
-static int setup(void **state)
-{
-	struct hl_egl_error err;
-
-	(void)state;
-	if (hl_egl_new(&egl, &err) < 0) {
-		fprintf(stderr, "no EGL: %s\n", err.msg);
-		return -1;
-	}
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	(void)state;
-	hl_egl_free(egl);
-	return 0;
-}
+#include "egl_fixture.h"
 
 #define BACKEND "gles"
 #define GLES_BATCH 64
@@ -727,7 +708,7 @@ int main(void)
 	};
 
 #ifdef HL_TEST_GI_GLES
-	return cmocka_run_group_tests(tests, setup, teardown);
+	return cmocka_run_group_tests(tests, egl_setup, egl_teardown);
 #else
 	return cmocka_run_group_tests(tests, NULL, NULL);
 #endif

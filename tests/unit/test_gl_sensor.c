@@ -29,26 +29,7 @@
 #include "tools/model.h"
 #include "tools/preset.h"
 
-static struct hl_egl *egl;
-
-static int setup(void **state)
-{
-	struct hl_egl_error err;
-
-	(void)state;
-	if (hl_egl_new(&egl, &err) < 0) {
-		fprintf(stderr, "no EGL: %s\n", err.msg);
-		return -1;
-	}
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	(void)state;
-	hl_egl_free(egl);
-	return 0;
-}
+#include "egl_fixture.h"
 
 static double now_ms(void)
 {
@@ -319,5 +300,5 @@ int main(void)
 		cmocka_unit_test(gl_sensor_matches_cpu_road),
 	};
 
-	return cmocka_run_group_tests(tests, setup, teardown);
+	return cmocka_run_group_tests(tests, egl_setup, egl_teardown);
 }

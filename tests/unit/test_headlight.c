@@ -25,26 +25,7 @@
 
 #define DEG (M_PI / 180.0)
 
-static struct hl_egl *egl;
-
-static int setup(void **state)
-{
-	struct hl_egl_error err;
-
-	(void)state;
-	if (hl_egl_new(&egl, &err) < 0) {
-		fprintf(stderr, "no EGL: %s\n", err.msg);
-		return -1;
-	}
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	(void)state;
-	hl_egl_free(egl);
-	return 0;
-}
+#include "egl_fixture.h"
 
 /* The GLES pass in one mode over gb, lamps reading dense[k]. */
 static void gl_pass(const struct hl_gbuffer *gb, int n, const struct hl_headlight_lamp *lamps,
@@ -469,5 +450,5 @@ int main(void)
 		cmocka_unit_test(headlight_road_cpu_equals_gles_and_point_reference),
 	};
 
-	return cmocka_run_group_tests(tests, setup, teardown);
+	return cmocka_run_group_tests(tests, egl_setup, egl_teardown);
 }
