@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -21,9 +22,16 @@
 #define MAX_CLIENTS 64
 #define POLL_MS 100
 
+/*
+ * A client sends straight from the pool frame it holds (no copy) as long as the socket takes
+ * the bytes; when it would block with part of the frame unsent, the rest is copied into buf and
+ * the frame released at once, so a slow or stalled client never holds a pool frame.
+ */
 struct client {
 	int fd;
-	uint8_t *buf; /* header + pixels of the frame being sent */
+	struct hl_frame *frame; /* the frame being sent, held, or NULL: the rest is in buf */
+	struct hl_frame_header hdr; /* its header as sent (t_sent_ns set) */
+	uint8_t *buf; /* the frame as sent, header + pixels (raw: pixels only), when copied */
 	size_t len, off;
 	uint64_t last_seq;
 	uint64_t sent, skipped;
@@ -163,8 +171,16 @@ int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clie
 	return 0;
 }
 
+static void release_frame(struct hl_stream *s, struct client *c)
+{
+	if (c->frame)
+		hl_frame_pool_release(s->pool, c->frame);
+	c->frame = NULL;
+}
+
 static void drop_client(struct hl_stream *s, struct client *c)
 {
+	release_frame(s, c);
 	close(c->fd);
 	free(c->buf);
 	*c = (struct client){ .fd = -1 };
@@ -234,15 +250,9 @@ static void load_frame(struct hl_stream *s, struct client *c)
 		return;
 	h = f->hdr;
 	h.t_sent_ns = hl_monotonic_ns();
-	if (s->raw) {
-		memcpy(c->buf, f->pixels, h.payload_size);
-		c->len = h.payload_size;
-	} else {
-		memcpy(c->buf, &h, sizeof(h));
-		memcpy(c->buf + sizeof(h), f->pixels, h.payload_size);
-		c->len = sizeof(h) + h.payload_size;
-	}
-	hl_frame_pool_release(s->pool, f);
+	c->frame = f;
+	c->hdr = h;
+	c->len = (s->raw ? 0 : sizeof(h)) + h.payload_size;
 	if (c->last_seq)
 		skipped = h.seq - c->last_seq - 1;
 	c->last_seq = h.seq;
@@ -253,15 +263,56 @@ static void load_frame(struct hl_stream *s, struct client *c)
 	pthread_mutex_unlock(&s->lock);
 }
 
+/* Bytes off .. of the frame as sent: the header (not raw), then the pixels. */
+static int frame_iov(const struct hl_stream *s, const struct client *c, struct iovec iov[2])
+{
+	const size_t head = s->raw ? 0 : sizeof(c->hdr);
+	int n = 0;
+
+	if (c->off < head)
+		iov[n++] = (struct iovec){ (uint8_t *)&c->hdr + c->off, head - c->off };
+	iov[n++] = (struct iovec){ c->frame->pixels + (c->off > head ? c->off - head : 0),
+				   c->len - (c->off > head ? c->off : head) };
+	return n;
+}
+
+/* The unsent rest of the held frame into buf (same offsets), and the frame released. */
+static void copy_rest(struct hl_stream *s, struct client *c)
+{
+	struct iovec iov[2];
+	const int n = frame_iov(s, c, iov);
+	size_t at = c->off;
+
+	for (int i = 0; i < n; i++) {
+		memcpy(c->buf + at, iov[i].iov_base, iov[i].iov_len);
+		at += iov[i].iov_len;
+	}
+	release_frame(s, c);
+}
+
 /* Sends what the socket takes now; false when the client is gone. */
 static bool pump(struct hl_stream *s, struct client *c)
 {
 	while (c->off < c->len) {
-		ssize_t n =
-			send(c->fd, c->buf + c->off, c->len - c->off, MSG_NOSIGNAL | MSG_DONTWAIT);
+		ssize_t n;
 
-		if (n < 0)
-			return errno == EAGAIN || errno == EINTR;
+		if (c->frame) {
+			struct iovec iov[2];
+			struct msghdr m = { .msg_iov = iov };
+
+			m.msg_iovlen = (size_t)frame_iov(s, c, iov);
+			n = sendmsg(c->fd, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
+		} else {
+			n = send(c->fd, c->buf + c->off, c->len - c->off,
+				 MSG_NOSIGNAL | MSG_DONTWAIT);
+		}
+		if (n < 0) {
+			if (errno != EAGAIN && errno != EINTR)
+				return false;
+			if (c->frame && errno == EAGAIN)
+				copy_rest(s, c);
+			return true;
+		}
 		c->off += (size_t)n;
 		pthread_mutex_lock(&s->lock);
 		s->c.bytes_sent += (uint64_t)n;
@@ -269,6 +320,7 @@ static bool pump(struct hl_stream *s, struct client *c)
 			s->c.frames_sent++;
 		pthread_mutex_unlock(&s->lock);
 	}
+	release_frame(s, c);
 	return true;
 }
 
