@@ -71,16 +71,29 @@ static void shader_build_returns_info_log(void **state)
 	struct hl_egl *egl = NULL;
 	struct hl_egl_error err;
 	GLuint prog = 0;
-	char log[1024] = "";
+	char log[1024] = "", *src;
 
 	(void)state;
 	assert_int_equal(hl_egl_new(&egl, &err), 0);
+	/* the headlight pass needs the shared lamp lookup: alone it does not compile */
 	assert_int_equal(hl_shader_build(hl_shader_quad_vert, hl_shader_headlight_frag, &prog, log,
 					 sizeof(log)),
-			 0);
+			 -EINVAL);
+	assert_non_null(strstr(log, "u_lid0"));
+	src = hl_shader_compose(hl_shader_headlight_frag, "#define HL_PASS 0",
+				hl_shader_lamp_lookup);
+	assert_non_null(src);
+	{
+		static const char head[] = "#version 300 es\n#define HL_PASS 0\n";
+
+		assert_true(strncmp(src, head, sizeof(head) - 1) == 0);
+	}
+	assert_int_equal(hl_shader_build(hl_shader_quad_vert, src, &prog, log, sizeof(log)), 0);
+	free(src);
 	assert_true(prog != 0);
 	glDeleteProgram(prog);
 	prog = 0;
+	assert_null(hl_shader_compose("void main() {}\n", "", hl_shader_lamp_lookup));
 	assert_int_equal(hl_shader_build(hl_shader_quad_vert,
 					 "#version 300 es\nvoid main() { undefined_thing(); }\n",
 					 &prog, log, sizeof(log)),
