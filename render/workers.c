@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -31,6 +32,8 @@ struct hl_workers {
 	size_t n;
 	atomic_uint_least64_t next; /* generation << 32 | next index to claim */
 	atomic_size_t done; /* indices finished */
+	cpu_set_t allowed; /* the CPUs the process may use, at creation */
+	int avoid_cpu; /* the caller's CPU the helpers are kept off, -1: none yet */
 };
 
 /*
@@ -105,6 +108,9 @@ int hl_workers_new(int threads, struct hl_workers **ret)
 	pthread_cond_init(&w->finished, NULL);
 	atomic_init(&w->next, 0);
 	atomic_init(&w->done, 0);
+	w->avoid_cpu = -1;
+	if (sched_getaffinity(0, sizeof(w->allowed), &w->allowed) < 0)
+		CPU_ZERO(&w->allowed);
 	for (int t = 0; t < threads - 1; t++) {
 		if (pthread_create(&w->helpers[t], NULL, helper_main, w) != 0) {
 			hl_workers_free(w);
@@ -137,6 +143,27 @@ int hl_workers_threads(const struct hl_workers *w)
 	return w->threads;
 }
 
+/*
+ * Keeps the helpers off the CPU the caller runs on: a woken thread is often placed on the
+ * waker's CPU (the scheduler's wake-affine choice), where it waits for the caller's time slice
+ * instead of running beside it. Only when the caller has moved, so this is rarely a syscall.
+ */
+static void avoid_caller_cpu(struct hl_workers *w)
+{
+	const int cpu = sched_getcpu();
+	cpu_set_t set;
+
+	if (cpu < 0 || cpu == w->avoid_cpu)
+		return;
+	w->avoid_cpu = cpu;
+	set = w->allowed;
+	CPU_CLR(cpu, &set);
+	if (CPU_COUNT(&set) == 0)
+		return; /* one CPU: nowhere else to go */
+	for (int t = 0; t < w->n_helpers; t++)
+		pthread_setaffinity_np(w->helpers[t], sizeof(set), &set);
+}
+
 void hl_workers_run(struct hl_workers *w, size_t n, void (*fn)(void *ctx, size_t i), void *ctx)
 {
 	if (w->n_helpers == 0 || n < 2 || n > UINT32_MAX) {
@@ -144,6 +171,7 @@ void hl_workers_run(struct hl_workers *w, size_t n, void (*fn)(void *ctx, size_t
 			fn(ctx, i);
 		return;
 	}
+	avoid_caller_cpu(w);
 	pthread_mutex_lock(&w->lock);
 	w->fn = fn;
 	w->ctx = ctx;

@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 #include <errno.h>
 #include <pthread.h>
+#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
@@ -109,6 +111,65 @@ static void workers_back_to_back_jobs_never_mix(void **state)
 	hl_workers_free(w);
 }
 
+struct cpus {
+	pthread_t caller;
+	atomic_int helper_on[CPU_SETSIZE]; /* indices helpers ran, per CPU */
+};
+
+static void note_cpu(void *ctx, size_t i)
+{
+	struct cpus *c = ctx;
+	const struct timespec ts = { 0, 20000 };
+
+	(void)i;
+	nanosleep(&ts, NULL); /* long enough that the helper wakes and takes some */
+	if (!pthread_equal(pthread_self(), c->caller)) {
+		const int cpu = sched_getcpu();
+
+		if (cpu >= 0 && cpu < CPU_SETSIZE)
+			atomic_fetch_add(&c->helper_on[cpu], 1);
+	}
+}
+
+/*
+ * Helpers are kept off the caller's CPU (else the scheduler's wake-affine placement often
+ * parks a woken helper behind the caller): over 200 jobs, helpers ran on the CPU the caller
+ * was on when the job started in at most a few (the caller may move during a job).
+ */
+static void workers_helpers_avoid_the_callers_cpu(void **state)
+{
+	struct hl_workers *w = NULL;
+	cpu_set_t allowed;
+	int jobs_on_caller_cpu = 0, helped = 0;
+
+	(void)state;
+	assert_int_equal(sched_getaffinity(0, sizeof(allowed), &allowed), 0);
+	if (CPU_COUNT(&allowed) < 2) {
+		printf("one CPU allowed: nothing to avoid\n");
+		return;
+	}
+	assert_int_equal(hl_workers_new(2, &w), 0);
+	for (int r = 0; r < 200; r++) {
+		struct cpus *c = calloc(1, sizeof(*c));
+		const int cpu = sched_getcpu();
+		int on_other = 0;
+
+		assert_non_null(c);
+		c->caller = pthread_self();
+		hl_workers_run(w, 16, note_cpu, c);
+		for (int k = 0; k < CPU_SETSIZE; k++)
+			on_other += k != cpu ? atomic_load(&c->helper_on[k]) : 0;
+		jobs_on_caller_cpu += atomic_load(&c->helper_on[cpu]) > 0;
+		helped += on_other > 0;
+		free(c);
+	}
+	printf("200 jobs: helpers took part in %d, ran on the caller's CPU in %d\n", helped,
+	       jobs_on_caller_cpu);
+	assert_true(helped > 100);
+	assert_true(jobs_on_caller_cpu <= 4);
+	hl_workers_free(w);
+}
+
 static void workers_reject_bad_thread_counts(void **state)
 {
 	struct hl_workers *w = NULL;
@@ -125,6 +186,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(workers_run_every_index_exactly_once),
 		cmocka_unit_test(workers_back_to_back_jobs_never_mix),
+		cmocka_unit_test(workers_helpers_avoid_the_callers_cpu),
 		cmocka_unit_test(workers_reject_bad_thread_counts),
 	};
 
