@@ -323,11 +323,6 @@ static void render(struct hl_pipeline *p)
 		hl_renderer_set_currents(p->r, l, p->cur);
 		if (s->lamps[l].t_rx_first_ns > s->lamps[newest].t_rx_first_ns)
 			newest = l;
-	}
-	pthread_mutex_unlock(&p->lock);
-
-	pthread_mutex_lock(&p->lock);
-	for (int l = 0; l < p->n_lamps; l++) {
 		if (s->lamps[l].cycle_seq > p->last_seq[l] + 1)
 			p->c.cycles_not_rendered[l] += s->lamps[l].cycle_seq - p->last_seq[l] - 1;
 		p->last_seq[l] = s->lamps[l].cycle_seq;
