@@ -502,7 +502,7 @@ int main(int argc, char **argv)
 	const float *basep[2] = { base[0], base[1] };
 	const char *out_path = NULL;
 	double *t, *t2, load0[3], load1[3], t_start = hl_bench_now_ms();
-	FILE *f = stdout;
+	FILE *f;
 	char tail;
 	int c;
 
@@ -589,14 +589,9 @@ int main(int argc, char **argv)
 		return 1;
 	}
 
-	if (out_path) {
-		f = fopen(out_path, "we");
-		if (!f) {
-			fprintf(stderr, "hdlamp-bench-combine: '%s': %s\n", out_path,
-				strerror(errno));
-			return 1;
-		}
-	}
+	f = hl_bench_open_json("hdlamp-bench-combine", out_path);
+	if (!f)
+		return 1;
 	if (getloadavg(load1, 3) < 0)
 		load1[0] = load1[1] = load1[2] = -1.0;
 	fprintf(f, "{\n");

@@ -270,7 +270,7 @@ int main(int argc, char **argv)
 	double gl_setup_ms[2];
 	double setup[4] = { 0 }, precompute_ms, *t, load[3];
 	float *dense[2] = { NULL, NULL }, *lux;
-	FILE *f = stdout;
+	FILE *f;
 	char tail;
 	static const enum hl_backend pairs[4][2] = {
 		{ HL_BACKEND_CPU, HL_BACKEND_CPU },
@@ -395,14 +395,9 @@ int main(int argc, char **argv)
 				    &frd[j]);
 	}
 
-	if (out_path) {
-		f = fopen(out_path, "we");
-		if (!f) {
-			fprintf(stderr, "hdlamp-bench-render: '%s': %s\n", out_path,
-				strerror(errno));
-			return 1;
-		}
-	}
+	f = hl_bench_open_json("hdlamp-bench-render", out_path);
+	if (!f)
+		return 1;
 	if (getloadavg(load, 3) < 0)
 		load[0] = load[1] = load[2] = -1.0;
 	fprintf(f, "{\n");

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 #include "tools/bench_stats.h"
 
+#include <errno.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 double hl_bench_now_ms(void)
@@ -26,4 +28,16 @@ struct stats hl_bench_summarise(double *t, int n)
 	qsort(t, n, sizeof(double), cmp_double);
 	return (struct stats){ n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2, t[0], t[n - 1],
 			       n };
+}
+
+FILE *hl_bench_open_json(const char *prog, const char *path)
+{
+	FILE *f;
+
+	if (!path)
+		return stdout;
+	f = fopen(path, "we");
+	if (!f)
+		fprintf(stderr, "%s: '%s': %s\n", prog, path, strerror(errno));
+	return f;
 }
