@@ -17,7 +17,7 @@
 
 #include "daemon/frame.h"
 #include "render/camera.h"
-#include "render/lid.h"
+#include "lamp/lid.h"
 #include "render/scene.h"
 
 struct hl_capture_scene {

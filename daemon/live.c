@@ -22,7 +22,7 @@
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/stream.h"
-#include "tools/preset.h"
+#include "lamp/preset.h"
 
 #define POOL_FRAMES 8
 

@@ -16,7 +16,7 @@
 #include "daemon/config.h"
 #include "daemon/frame_pool.h"
 #include "daemon/ring.h"
-#include "render/lid.h"
+#include "lamp/lid.h"
 #include "render/scene.h"
 
 struct hl_pipeline_hooks {

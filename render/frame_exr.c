@@ -9,7 +9,7 @@
 
 #include <openexr.h>
 
-#include "render/exr_error.h"
+#include "lamp/exr_error.h"
 
 /* What a context's user data points to: the last message, and the memory sink if any. */
 struct exr_msg {

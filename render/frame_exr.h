@@ -16,7 +16,7 @@
 #include <stdint.h>
 
 #include "render/camera.h"
-#include "render/lid.h"
+#include "lamp/lid.h"
 
 #define HL_FRAME_EXR_MAX_META 16
 

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "render/gl_util.h"
 #include "render/shader.h"
 #include "render/shaders.h"

@@ -16,7 +16,7 @@
 
 #include <GLES3/gl31.h>
 
-#include "render/lid.h"
+#include "lamp/lid.h"
 
 enum hl_gl_combine_mode {
 	HL_GL_COMBINE_BOXES, /* one quad per source over its box, incremental */

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/angles.h"
+#include "lamp/angles.h"
 
 #define DEG (M_PI / 180.0)
 #define WEIGHT_ONE 65535.0f /* bilinear weights are stored as 16-bit fractions */

@@ -20,7 +20,7 @@
 #define HL_RENDER_HEADLIGHT_H
 
 #include "render/camera.h"
-#include "render/lid.h"
+#include "lamp/lid.h"
 #include "render/scene.h"
 
 #define HL_HEADLIGHT_MAX_LAMPS 2

@@ -10,7 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "render/lid.h"
+#include "lamp/lid.h"
 
 /* Colour of a value t in [0, 1] on the scale (turbo), RGB8. */
 void hl_plot_colour(float t, uint8_t ret_rgb[3]);

@@ -8,7 +8,7 @@
 
 #include <GLES3/gl31.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "render/gl_combine.h"
 #include "render/gl_headlight.h"
 #include "render/headlight.h"

@@ -23,7 +23,7 @@
 
 #include "render/camera.h"
 #include "render/egl.h"
-#include "render/lid.h"
+#include "lamp/lid.h"
 #include "render/scene.h"
 
 enum hl_backend {

@@ -7,10 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "tools/commands.h"
 #include "render/plot.h"
-#include "tools/preset.h"
+#include "lamp/preset.h"
 
 static void usage(FILE *f)
 {

@@ -7,11 +7,11 @@
 #include <string.h>
 #include <time.h>
 
-#include "render/lid.h"
+#include "lamp/lid.h"
 #include "tools/commands.h"
-#include "tools/import/export.h"
-#include "tools/import/import.h"
-#include "tools/import/manifest.h"
+#include "import/export.h"
+#include "import/import.h"
+#include "import/manifest.h"
 
 static void usage_import(FILE *f)
 {

@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 
 #include "tools/commands.h"
-#include "tools/model.h"
+#include "lamp/model.h"
 
 static void usage(FILE *f)
 {

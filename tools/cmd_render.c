@@ -18,8 +18,8 @@
 #include "render/scene_mesh.h"
 #include "render/view.h"
 #include "tools/commands.h"
-#include "tools/model.h"
-#include "tools/preset.h"
+#include "lamp/model.h"
+#include "lamp/preset.h"
 
 #define DEFAULT_EXPOSURE_EV 0.0 /* 1 cd/m^2 maps to half of full scale */
 #define BIRD_EXPOSURE_EV 2.0 /* from above most of the road is far and dim */

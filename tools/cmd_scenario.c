@@ -18,7 +18,7 @@
 #include "can/assembler.h"
 #include "can/candump.h"
 #include "tools/commands.h"
-#include "tools/model.h"
+#include "lamp/model.h"
 #include "tools/pixel_drive.h"
 
 #define CYCLE_US 20000 /* ECU period, 50 Hz */

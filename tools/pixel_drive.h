@@ -11,8 +11,8 @@
 #ifndef HL_TOOLS_PIXEL_DRIVE_H
 #define HL_TOOLS_PIXEL_DRIVE_H
 
-#include "tools/model.h"
-#include "tools/preset.h"
+#include "lamp/model.h"
+#include "lamp/preset.h"
 
 enum hl_pixel_phase {
 	HL_PIXEL_GLAREFREE,

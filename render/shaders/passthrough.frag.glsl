@@ -1,5 +1,5 @@
 #version 300 es
-// llvmpipe's floor for a deferred pass (the benchmark, tools/bench_combine.c): read both
+// llvmpipe's floor for a deferred pass (the benchmark, tools/benchmarks/bench_combine.c): read both
 // G-buffer texels of the pixel and write one float, nothing else. Whatever the headlight pass
 // costs above this is its own work; this much is the rasteriser, the texture fetches and the
 // R32F store.

@@ -5,7 +5,7 @@
  */
 #include <stdint.h>
 
-#include "tools/import/csv.h"
+#include "import/csv.h"
 #include "gonio_check.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -12,8 +12,8 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
-#include "tools/import/gonio.h"
-#include "tools/import/error.h"
+#include "import/gonio.h"
+#include "import/error.h"
 
 static void check_table(const struct hl_gonio *g)
 {

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Helpers shared by the tools/import unit tests (header only; not a test itself). */
+/* Helpers shared by the import/ unit tests (header only; not a test itself). */
 #ifndef HL_TESTS_IMPORT_TEST_UTIL_H
 #define HL_TESTS_IMPORT_TEST_UTIL_H
 

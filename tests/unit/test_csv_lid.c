@@ -12,10 +12,10 @@
 #include <cmocka.h>
 
 #include "import_test_util.h"
-#include "tools/import/csv.h"
-#include "tools/import/export.h"
-#include "tools/import/resample.h"
-#include "tools/model.h"
+#include "import/csv.h"
+#include "import/export.h"
+#include "import/resample.h"
+#include "lamp/model.h"
 
 static int parse(const char *text, struct hl_gonio **g, struct hl_import_error *err)
 {

@@ -12,8 +12,8 @@
 #include <cmocka.h>
 
 #include "import_test_util.h"
-#include "tools/import/eulumdat.h"
-#include "tools/import/resample.h"
+#include "import/eulumdat.h"
+#include "import/resample.h"
 
 /* Intensity in cd/klm written for plane C at gamma: distinct everywhere, so mirrors show. */
 static double f(double c, double gamma)

@@ -19,7 +19,7 @@
 
 #include <cmocka.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "render/egl.h"
 #include "render/gi.h"
 #include "render/gl_sensor.h"
@@ -27,8 +27,8 @@
 #include "render/hemicube.h"
 #include "render/scene.h"
 #include "render/sensor.h"
-#include "tools/model.h"
-#include "tools/preset.h"
+#include "lamp/model.h"
+#include "lamp/preset.h"
 
 #define DEG (M_PI / 180.0)
 

@@ -12,10 +12,10 @@
 
 #include <cmocka.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "render/egl.h"
 #include "render/gl_combine.h"
-#include "tools/model.h"
+#include "lamp/model.h"
 
 static struct hl_egl *egl;
 static struct hl_lid *lamp;

@@ -19,15 +19,15 @@
 
 #include <cmocka.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "render/egl.h"
 #include "render/gl_sensor.h"
 #include "render/hemicube.h"
 #include "render/scene.h"
 #include "render/scene_mesh.h"
 #include "render/sensor.h"
-#include "tools/model.h"
-#include "tools/preset.h"
+#include "lamp/model.h"
+#include "lamp/preset.h"
 
 #include "egl_fixture.h"
 

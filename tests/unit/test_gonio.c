@@ -9,8 +9,8 @@
 
 #include <cmocka.h>
 
-#include "tools/import/gonio.h"
-#include "tools/import/text.h"
+#include "import/gonio.h"
+#include "import/text.h"
 
 static const float four[] = { 1, 2, 3, 4 };
 

@@ -15,13 +15,13 @@
 
 #include <cmocka.h>
 
-#include "render/angles.h"
-#include "render/combine.h"
+#include "lamp/angles.h"
+#include "lamp/combine.h"
 #include "render/egl.h"
 #include "render/gl_headlight.h"
 #include "render/headlight.h"
 #include "render/scene.h"
-#include "tools/model.h"
+#include "lamp/model.h"
 
 #define DEG (M_PI / 180.0)
 

@@ -12,9 +12,9 @@
 #include <cmocka.h>
 
 #include "import_test_util.h"
-#include "tools/import/export.h"
-#include "tools/import/ies.h"
-#include "tools/import/resample.h"
+#include "import/export.h"
+#include "import/ies.h"
+#include "import/resample.h"
 
 static const char *const real_files[] = {
 	"canopy_typeC_quadrant.ies",

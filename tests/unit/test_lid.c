@@ -8,8 +8,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "render/angles.h"
-#include "render/lid.h"
+#include "lamp/angles.h"
+#include "lamp/lid.h"
 
 static const struct hl_lid_grid grid = { 4, 3, HL_ANGLES_A, -1.0f, 2.0f, -1.0f, 1.0f };
 /* rows: V = 1, 0, -1; columns H = -1, 0, 1, 2 */

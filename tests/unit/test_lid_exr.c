@@ -11,7 +11,7 @@
 
 #include <openexr.h>
 
-#include "render/lid.h"
+#include "lamp/lid.h"
 #include "testutil.h"
 
 /* A hand-made EXR file, written with OpenEXRCore directly, to produce every fault. */

@@ -13,9 +13,9 @@
 #include <cmocka.h>
 
 #include "import_test_util.h"
-#include "tools/import/import.h"
-#include "tools/import/manifest.h"
-#include "tools/import/resample.h"
+#include "import/import.h"
+#include "import/manifest.h"
+#include "import/resample.h"
 
 static int parse(const char *text, struct hl_manifest **m, struct hl_import_error *err)
 {

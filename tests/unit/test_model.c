@@ -9,8 +9,8 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "render/combine.h"
-#include "tools/model.h"
+#include "lamp/combine.h"
+#include "lamp/model.h"
 #include "testutil.h"
 
 struct fixture {

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "tools/preset.h"
+#include "lamp/preset.h"
 #include "testutil.h"
 
 static void preset_parses_both_lamps(void **state)

@@ -12,10 +12,10 @@
 
 #include <cmocka.h>
 
-#include "render/combine.h"
+#include "lamp/combine.h"
 #include "render/headlight.h"
 #include "render/renderer.h"
-#include "tools/model.h"
+#include "lamp/model.h"
 
 #define W 96
 #define H 54

@@ -11,12 +11,12 @@
 
 #include <cmocka.h>
 
-#include "tools/import/csv.h"
-#include "tools/import/export.h"
-#include "tools/import/ies.h"
-#include "tools/import/resample.h"
-#include "tools/import/typec.h"
-#include "tools/model.h"
+#include "import/csv.h"
+#include "import/export.h"
+#include "import/ies.h"
+#include "import/resample.h"
+#include "import/typec.h"
+#include "lamp/model.h"
 
 #define DEG (M_PI / 180.0)
 

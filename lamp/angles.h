@@ -1,0 +1,19 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Angle systems of DESIGN.md §4, exactly. Lamp space: +z forward (optical axis), +x right seen
+ * from behind the lamp, +y up. Angles in radians.
+ *   type A (turn about the vertical axis, then elevate): H = atan2(x, z), V = atan2(y, hypot(x, z))
+ *   type B (tilt about the horizontal axis, then turn):  V = atan2(y, z), H = atan2(x, hypot(y, z))
+ */
+#ifndef HL_RENDER_ANGLES_H
+#define HL_RENDER_ANGLES_H
+
+#include "lamp/lid.h"
+
+/* (H, V) of direction d (need not be unit length, must not be zero). */
+void hl_angles_from_dir(enum hl_angles system, const double d[3], double *ret_h_rad,
+			double *ret_v_rad);
+/* Unit direction of (H, V). */
+void hl_angles_to_dir(enum hl_angles system, double h_rad, double v_rad, double ret_d[3]);
+
+#endif
