@@ -105,7 +105,8 @@ static int parse(struct hl_text *t, struct hl_eulumdat_info *info, struct hl_gon
 		"the light output ratio (%)",
 	};
 	double v, *c = NULL, *g = NULL;
-	long ityp, isym, mc, ng, sets, lamps;
+	/* set by field_int() before use; initialised for GCC, which cannot see that in Release */
+	long ityp = 0, isym = 0, mc = 0, ng = 0, sets = 0, lamps = 0;
 	float *values = NULL;
 	int rc, first_plane = 0, c_line, n_planes;
 	size_t n_values;
