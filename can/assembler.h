@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The cycle assembler (DESIGN.md §2): from CAN frames, decoded with the DBC, complete
+ * The cycle assembler (docs/can-input.md): from CAN frames, decoded with the DBC, complete
  * intensity lists per lamp. What is a lamp's frame and which source a signal carries is data:
  * BO_ attribute HdlLamp (the lamp's name), SG_ attribute HdlSource (1-based source index),
  * BO_ attribute HdlE2E (profile and data ID).

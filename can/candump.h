@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * One candump -L log line, the log, replay and fixture format (DESIGN.md §5), as can-utils
+ * One candump -L log line, the log, replay and fixture format (docs/design.md §5), as can-utils
  * writes and reads it:
  *
  *   (1436509052.249713) can0 123#11223344          classic, 11-bit ID (3 hex digits)

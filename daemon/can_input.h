@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The CAN thread (DESIGN.md §2): receives frames from a SocketCAN interface or a candump log,
+ * The CAN thread (docs/architecture.md): receives frames from SocketCAN or a candump log,
  * assembles lamp cycles and pushes a snapshot into the ring for every complete cycle and every
  * status change (stale, recovered, bus state, interface down/up). On a live bus it never
  * waits for the consumer; a --fast replay (no bus to keep up with) waits for free slots

@@ -2,7 +2,7 @@
 /*
  * hdlampd's configuration: an INI file (inih) with command-line overrides
  * (--set SECTION.KEY=VALUE and the short options). Every key is listed in config.c's table and
- * in the README; an unknown key or a bad value is an error naming the file, the line and the key.
+ * in hdlampd.conf(5); an unknown key or a bad value is an error naming file, line and key.
  *
  * Thread-safety: loaded by the main thread; the other threads get a copy.
  */
@@ -74,7 +74,7 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *key, c
 		  const char *origin, int line, struct hl_config_error *err);
 /* Checks the whole (e.g. exactly one CAN input). 0 or -EINVAL. */
 int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err);
-/* Writes every key with its value as an INI file (for --print-config and the README). */
+/* Writes every key with its value as an INI file (for --print-config and the docs). */
 void hl_config_print(const struct hl_config *cfg, void *file);
 
 #endif

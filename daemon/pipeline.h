@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The render thread (DESIGN.md §2): it owns the EGL context and the renderer, takes the newest
+ * The render thread (docs/architecture.md) owns the EGL context and the renderer, takes the newest
  * complete snapshot from the ring whenever the CAN thread pushes one (or at a fixed rate),
  * applies each stale lamp's fail-safe (hold, dark or a preset), renders the scene, converts it
  * to the configured view in a frame from the pool and publishes it with its latency stamps.

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The ring between the CAN thread and the render thread (DESIGN.md §2): single producer,
+ * The ring between the CAN thread and the render thread (docs/design.md §2): single producer,
  * single consumer, lock-free, a fixed power-of-two number of slots of intensity-list snapshots,
  * all allocated at start.
  *

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A CAN database read from a .dbc file (DESIGN.md §5): messages, signals, multiplexing,
+ * A CAN database read from a .dbc file (docs/dbc.md): messages, signals, multiplexing,
  * attributes, value tables and comments, plus the codec that turns frames into physical values.
  *
  * The database object is opaque; the message and signal descriptions it hands out are public,

@@ -128,7 +128,7 @@ static void cr_weights(double t, double w[4])
  * The LID between its samples for export: separable Catmull-Rom (exact at the samples, smooth
  * between them, clamped at 0), zero outside the grid's range. Bilinear reconstruction would
  * carry the grid's kinks into a table in other angles, where they cost first-order accuracy
- * on the way back (README, "Importing measured distributions").
+ * on the way back (docs/import.md, "Export").
  */
 static double lid_lookup(const struct hl_lid_grid *g, const float *dense, double h, double v)
 {

@@ -9,7 +9,7 @@
  *   B       H, degrees, -90..90                V, degrees, -180..180
  *   C       C, degrees, 0..360 (azimuth)       gamma, degrees, 0..180 (from the nadir)
  *
- * Directions: types A and B as DESIGN.md §4 (lamp/angles.h), type C as import/typec.h.
+ * Directions: types A and B as docs/design.md §4 (lamp/angles.h), type C as import/typec.h.
  *
  * Type C tables are periodic in C when their planes span exactly 360 degrees (the symmetric
  * constructors below produce that); lookups then wrap. Otherwise, and for A and B, a lookup

@@ -4,7 +4,7 @@
  * An INI file:
  *
  *   # comments start with '#' or ';' (whole lines only)
- *   [grid]                  optional; every key optional, defaults as DESIGN.md §1/§4
+ *   [grid]                  optional; every key optional, defaults as docs/design.md §1/§4
  *   angles = A              A or B: the LID's angle system              (default A)
  *   h = -89.9, 89.9         first and last H sample, degrees            (default -89.9, 89.9)
  *   v = -29.9, 19.9         first and last V sample, degrees            (default -29.9, 19.9)

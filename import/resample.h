@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Resampling a measured distribution onto a LID grid. Every grid sample (H, V), in the grid's
- * angle system (A or B, DESIGN.md §4), becomes a lamp-space direction and then the table's own
+ * angle system (A or B, design.md §4), becomes a lamp-space direction and then the table's own
  * angles (A, B or C); the table is interpolated there (bilinear in its own angles, zero outside
  * its coverage, gonio.h). No angle system is approximated by another: the conversions go
  * through the exact direction vector (render/angles.h, typec.h).

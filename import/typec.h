@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Type C angles (CIE 70 / LM-63 / EULUMDAT C-gamma) in hdlamp's lamp space (DESIGN.md §4: +z
+ * Type C angles (CIE 70 / LM-63 / EULUMDAT C-gamma) in hdlamp's lamp space (docs/design.md §4: +z
  * the optical axis, +x right seen from behind the lamp, +y up).
  *
  * The photometric polar axis is vertical, as on the C-gamma goniophotometers these files come

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Angle systems of DESIGN.md §4, exactly. Lamp space: +z forward (optical axis), +x right seen
+ * Angle systems of docs/design.md §4. Lamp space: +z forward (optical axis), +x right seen
  * from behind the lamp, +y up. Angles in radians.
  *   type A (turn about the vertical axis, then elevate): H = atan2(x, z), V = atan2(y, hypot(x, z))
  *   type B (tilt about the horizontal axis, then turn):  V = atan2(y, z), H = atan2(x, hypot(y, z))

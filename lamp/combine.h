@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The reference combiner ("cookie combiner", DESIGN.md §1): a lamp's distribution
+ * The reference combiner ("cookie combiner", docs/design.md §1): a lamp's distribution
  * L = sum_k i_k * L_k over its sources, in 32-bit floats, touching each source only over its
  * non-zero box (sparse). A combiner keeps the last intensities and updates incrementally: only
  * sources whose i_k changed are added as (i_new - i_old) * L_k. Float increments drift, so every
- * full_every-th update recomputes from scratch, which bounds the error (see README).
+ * full_every-th update recomputes from scratch, which bounds the error (docs/rendering.md).
  *
  * Thread-safety: a combiner belongs to one thread; the lid it reads must outlive it.
  */

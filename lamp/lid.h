@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * A lamp's luminous intensity distributions (LIDs): one candela grid per light source over
- * (H, V) at full current, as DESIGN.md §4/§5 define them. Each source is stored only over its
+ * (H, V) at full current (docs/design.md §4/§5). Each source is stored only over its
  * non-zero bounding box, so a matrix LED that lights a few degrees costs a few kilobytes and a
  * combine touches only what is lit.
  *
@@ -93,7 +93,7 @@ float hl_lid_grid_lookup(const struct hl_lid_grid *grid, const float *dense, flo
 			 float v_deg);
 
 /*
- * Files (OpenEXR, DESIGN.md §5). Reading accepts FLOAT or HALF channels and validates
+ * Files (OpenEXR, docs/lid-files.md). Reading accepts FLOAT or HALF channels and validates
  * everything; writing stores FLOAT channels, ZIP compressed.
  * Read returns 0, -ENOENT (no such file), -EBADMSG (not a valid LID file), -EINVAL
  * (inconsistent grid attributes), -ENOMEM. err (optional) says what and where.

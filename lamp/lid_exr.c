@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * LID files: OpenEXR through OpenEXRCore (DESIGN.md §5). One scanline part, one FLOAT or HALF
+ * LID files: OpenEXR through OpenEXRCore (docs/lid-files.md). One scanline part, one FLOAT or HALF
  * channel per source ("src0001"...) or one channel "I" for a combined distribution, and the
  * hdlamp:* attributes. Everything is validated; a fault is reported with the file's name.
  */

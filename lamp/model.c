@@ -12,7 +12,7 @@
  * A source is a window in (H, V) with smoothstep edges (soft_deg wide, centred on the edge, so
  * neighbours overlap by that much), times an optional Gaussian that shapes the peak.
  */
-/* Scales every source so the low-beam preset peaks near 25 kcd (DESIGN.md §1). */
+/* Scales every source so the low-beam preset peaks near 25 kcd (docs/design.md §1). */
 #define MODEL_SCALE 1.75f
 
 struct source_spec {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The synthetic HD84 reference lamp (DESIGN.md §1, README "The HD84 model") and pixel lamps
+ * The synthetic HD84 reference lamp (docs/design.md §1, docs/hd84-model.md) and pixel lamps
  * for scaling work. Both write plain hl_lid objects on the default grid: 900 x 250 samples,
  * 0.2°, H -89.9..+89.9, V -29.9..+19.9, type A.
  */

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Presets: the ECU's raw 6-bit dimming values for both lamps, as JSON
- * {"left": [v1, ..., vK], "right": [...]} with integers 0..63 (DESIGN.md §1: i_k = v_k / 63).
+ * {"left": [v1, ..., vK], "right": [...]} with integers 0..63 (docs/design.md §1: i_k = v_k / 63).
  */
 #ifndef HL_TOOLS_PRESET_H
 #define HL_TOOLS_PRESET_H

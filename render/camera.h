@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * A pinhole camera in the vehicle frame (ISO 8855: x forward, y left, z up, metres), and the
- * pose of a lamp: where it sits and where it points, which defines lamp space (DESIGN.md §4:
+ * pose of a lamp: where it sits and where it points, which defines lamp space (docs/design.md §4:
  * +z the optical axis, +x right seen from behind, +y up).
  *
  * Pixel (col, row): row 0 is the top of the image; pixel centres are at (col + 0.5, row + 0.5).

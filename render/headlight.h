@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The headlight pass on the CPU (DESIGN.md §1, §4): every G-buffer point is lit by each lamp
+ * The headlight pass on the CPU (docs/design.md §1, §4): every G-buffer point is lit by each lamp
  * with E = I(H, V) * cos(eps) / r^2 (lux), (H, V) the direction of the point in lamp space in
  * the lamp's angle system (type A or B, exact), I a bilinear lookup of the lamp's combined
  * distribution with samples at texel centres and zero outside the grid. Lamps add.

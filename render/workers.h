@@ -7,7 +7,7 @@
  * (threads = 1) hl_workers_run() is a plain loop.
  *
  * Used by the render path to spread the headlight pass and the display view of a frame over
- * the cores: the pass is bound by memory (DESIGN.md §7), and two cores keep twice the misses in
+ * the cores: the pass is bound by memory (performance.md), and two cores keep twice the misses in
  * flight.
  *
  * Thread-safety: hl_workers_run() from one thread at a time (the render thread); fn runs on the

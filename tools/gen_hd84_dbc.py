@@ -13,7 +13,7 @@ import math
 import os
 import sys
 
-N_SOURCES = 95  # per lamp: 84 matrix LEDs (3 rows of 28) + 11 further sources (DESIGN.md §1)
+N_SOURCES = 95  # per lamp: 84 matrix LEDs (3 rows of 28) + 11 further sources (docs/design.md §1)
 FACTOR = repr(1 / 63)  # 0.015873015873015872: reads back as exactly the double 1/63
 LAMPS = (("L", "left", "HL_L"), ("R", "right", "HL_R"))
 
@@ -51,7 +51,7 @@ BA_DEF_DEF_  "HdlE2E" "none";
 BA_DEF_DEF_  "HdlSource" 0;
 '''
 
-CLASSIC_NOTE = '''hd84.dbc - the HD84 headlamp pair on classic CAN (hdlamp, DESIGN.md section 5).
+CLASSIC_NOTE = '''hd84.dbc - the HD84 headlamp pair on classic CAN (hdlamp, docs/dbc.md).
 
 Every 20 ms the ECU sends the 6-bit dimming value v_k of each of the 95 sources of each lamp;
 the relative current is i_k = v_k / 63, which is the physical value of every LED_nnn signal
@@ -75,7 +75,7 @@ Attributes: HdlLamp (BO_, string) names the lamp of the daemon's configuration; 
 (SG_, int) is the 1-based source index, 0 for signals that carry no source; HdlE2E (BO_,
 string) is the E2E profile and data ID; GenMsgCycleTime is the cycle, 20 ms.'''
 
-FD_NOTE = '''hd84_fd.dbc - the HD84 headlamp pair on CAN FD (hdlamp, DESIGN.md section 5).
+FD_NOTE = '''hd84_fd.dbc - the HD84 headlamp pair on CAN FD (hdlamp, docs/dbc.md).
 
 The same 95 sources per lamp as hd84.dbc, 6 bits each, physical value i_k = v_k / 63, but in
 two CAN FD frames per lamp and cycle, without multiplexing:
@@ -176,7 +176,7 @@ NOMINAL_BPS = 500000
 DATA_BPS = (2000000, 5000000)
 FRAME_GAP_US = 400  # hdlamp scenario's spacing of the frames of one cycle
 
-PIXEL_NOTE = '''{name} - a pixel headlamp pair of {n} sources per lamp on CAN FD (hdlamp, DESIGN.md section 5).
+PIXEL_NOTE = '''{name} - a pixel headlamp pair of {n} sources per lamp on CAN FD (hdlamp, docs/dbc.md).
 
 Written by tools/gen_hd84_dbc.py --sources {n} for the lamps of hdlamp model --sources {n}
 (pixel{n}_left.lid.exr, pixel{n}_right.lid.exr: {n} sources in rows by increasing H, row 1 at

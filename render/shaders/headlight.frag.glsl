@@ -1,5 +1,5 @@
 #version 300 es
-// The deferred headlight pass (DESIGN.md §1, §4): each G-buffer point is lit by each lamp
+// The deferred headlight pass (docs/design.md §1, §4): each G-buffer point is lit by each lamp
 // with E = I(H, V) cos(eps) / r^2 in lux. (H, V) are the point's direction in lamp space in
 // the lamp's angle system, exactly; I is a bilinear lookup with samples at texel centres and
 // zero outside the measured grid. The output is illuminance (R32F).

@@ -1,4 +1,4 @@
-"""A client of hdlampd's frame stream (README "Frame stream"): header + pixels per frame."""
+"""A client of hdlampd's frame stream (docs/daemon.md): header + pixels per frame."""
 import socket
 import struct
 

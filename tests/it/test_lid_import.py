@@ -201,7 +201,7 @@ def test_combined_distribution_exports_and_imports(tmp_path):
     want = grid_values(tmp_path, tmp_path / "low.lid.exr", 1, "want")
     got = grid_values(tmp_path, tmp_path / "back.lid.exr", "low_beam", "got")
     peak = max(want.values())
-    assert peak > 20000  # DESIGN.md: low beam peaks near 25 kcd
+    assert peak > 20000  # docs/design.md §1: low beam peaks near 25 kcd
     for key, w in want.items():
         if w > 0.01 * peak and abs(key[0]) < 89 and -29 < key[1] < 19:
             assert abs(got.get(key, 0.0) - w) <= 0.005 * w, (key, w, got.get(key))

@@ -2,7 +2,7 @@
 /*
  * systemd/hdlampd.conf, the example installed as /etc/hdlampd/hdlampd.conf: it loads and checks
  * cleanly, lists every key of daemon/config.c's table (each once, in its section), and holds
- * the bench values the README describes.
+ * the bench values docs/daemon.md describes.
  */
 #include <errno.h>
 #include <setjmp.h>

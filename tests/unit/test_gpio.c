@@ -420,7 +420,7 @@ static void *render_thread(void *arg)
 
 /*
  * As in hdlampd: one thread strobes while another reads trigger edges and a third (here the
- * same) reads the counters. Run under ThreadSanitizer too (README).
+ * same) reads the counters. Run under ThreadSanitizer too (docs/daemon.md, GPIO).
  */
 static void gpio_strobe_and_trigger_from_two_threads(void **state)
 {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The headlight pass against the physics (DESIGN.md §1, §4): the papers' sphere validation for
+ * The headlight pass against the physics (docs/design.md §1, §4): the papers' sphere validation for
  * type A and type B lamps, a single source lighting exactly its region, the wall at 25 m at
  * (0,0), B50L and 75R, and the GLES pass against the CPU pass.
  */

@@ -22,7 +22,7 @@ static int parse(const char *text, struct hl_manifest **m, struct hl_import_erro
 	return hl_manifest_parse(text, strlen(text), "m.ini", "/data", m, err);
 }
 
-/* Without [grid]: DESIGN.md's grid; names, files (resolved) and formats per source. */
+/* Without [grid]: docs/design.md's grid; names, files (resolved) and formats per source. */
 static void manifest_defaults_and_sources(void **state)
 {
 	static const char text[] = "# lamp\n[source 2]\nfile = b.LDT\nname = two words\n\n"

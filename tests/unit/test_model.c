@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The HD84 model's physical properties (DESIGN.md §1), asserted on the files it writes. */
+/* The HD84 model's physical properties (docs/design.md §1), asserted on the files it writes. */
 #include <errno.h>
 #include <math.h>
 #include <setjmp.h>

@@ -25,7 +25,7 @@ static void assert_dir(const double d[3], double x, double y, double z)
 	assert_true(fabs(d[0] - x) < 1e-15 && fabs(d[1] - y) < 1e-15 && fabs(d[2] - z) < 1e-15);
 }
 
-/* Type C against the lamp axes of DESIGN.md §4 (typec.h). */
+/* Type C against the lamp axes of docs/design.md §4 (typec.h). */
 static void typec_axes_follow_the_documented_convention(void **state)
 {
 	double d[3];
@@ -83,7 +83,7 @@ static void typec_is_type_a_relabelled(void **state)
 
 /*
  * A type B table on a type A grid: each sample is the table at the exact type B angles of the
- * sample's direction (computed here from DESIGN.md §4's formulas), and zero outside the table.
+ * sample's direction (computed here from docs/design.md §4's formulas), and zero outside the table.
  */
 static void resample_converts_exactly_and_is_zero_outside(void **state)
 {
@@ -117,7 +117,7 @@ static void resample_converts_exactly_and_is_zero_outside(void **state)
 		}
 	}
 	assert_true(inside > 10000 && outside > 10000);
-	/* the two systems differ where DESIGN.md says they do: ~0.3 deg at H 20, V 5 */
+	/* the two systems differ where docs/design.md §4 says they do: ~0.3 deg at H 20, V 5 */
 	{
 		double d[3], hb, vb;
 

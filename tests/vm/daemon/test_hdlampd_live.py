@@ -1,4 +1,4 @@
-"""hdlampd --can vcan0 rendering (DESIGN.md §6): python-can replays the drive scenario onto
+"""hdlampd --can vcan0 rendering (docs/design.md §6): python-can replays the drive scenario onto
 vcan0, a client reads the frame stream. Frames are tiny (64x36): this VM is ~50x slower."""
 import json
 import re

@@ -1,4 +1,4 @@
-"""hdlampd --can vcan0 against python-can replays of the drive scenario (DESIGN.md §6).
+"""hdlampd --can vcan0 against python-can replays of the drive scenario (docs/design.md §6).
 
 Each test starts the daemon on vcan0 first, so both lamps are stale once at start-up (no ECU
 yet) and recover with the first cycle: the live counts are the scenario's plus that one.
