@@ -22,8 +22,7 @@ static void usage_import(FILE *f)
 		"names a file (IES LM-63 types A/B/C, EULUMDAT .ldt, CSV) and a name; [grid] sets\n"
 		"the output grid (default type A, 0.2 deg, H -89.9..89.9, V -29.9..19.9). Every\n"
 		"source is resampled in its own angles, zero outside what it covers. Prints one\n"
-		"line per source: index, name, peak cd, file. See README, 'Importing measured\n"
-		"distributions'.\n");
+		"line per source: index, name, peak cd, file. See docs/import.md and hdlamp(1).\n");
 }
 
 static void usage_export(FILE *f)
