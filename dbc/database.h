@@ -219,7 +219,7 @@ int hl_dbc_signal_attr(const struct hl_dbc *db, const struct hl_dbc_message *m,
 int hl_dbc_decode(const struct hl_dbc_message *m, const uint8_t *data, size_t len,
 		  struct hl_dbc_value *ret_values);
 /*
- * Looks up can_id and decodes; counts the outcome in counters (may be NULL). Returns the number
+ * (dbc/database.c) Looks up can_id and decodes; counts the outcome in counters (may be NULL). Returns the number
  * of values, -ENOENT for an unknown ID, -EMSGSIZE for a short frame. *ret_msg is set on
  * success and for short frames.
  */

@@ -1020,7 +1020,7 @@ static int parse_attr_value(struct parser *p, const struct hl_dbc_attr_def *d,
 
 static int get_def_ref(struct parser *p, int *ret)
 {
-	const char *name;
+	const char *name = NULL; /* set by get_string only when it returns 0 */
 	int line = p->tok.line, col = p->tok.col, rc;
 
 	rc = get_string(p, "the attribute name string", &name);
