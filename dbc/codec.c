@@ -161,7 +161,7 @@ static int build_table(struct hl_dbc_message *m, int mux, struct mux_table *t)
 	for (int i = 0; i < m->n_signals; i++) {
 		const struct hl_dbc_signal *s = &m->signals[i];
 
-		if (s->mux_parent != mux)
+		if (s->mux_parent != mux || s->unusable)
 			continue;
 		n_children++;
 		for (int r = 0; r < s->n_mux_ranges; r++)
@@ -179,7 +179,8 @@ static int build_table(struct hl_dbc_message *m, int mux, struct mux_table *t)
 		for (uint32_t v = 0; v < t->n_values; v++) {
 			t->offsets[v] = k;
 			for (int i = 0; i < m->n_signals; i++)
-				if (m->signals[i].mux_parent == mux && in_ranges(&m->signals[i], v))
+				if (m->signals[i].mux_parent == mux && !m->signals[i].unusable &&
+				    in_ranges(&m->signals[i], v))
 					t->children[k++] = (uint16_t)i;
 		}
 		t->offsets[t->n_values] = k;
@@ -189,7 +190,7 @@ static int build_table(struct hl_dbc_message *m, int mux, struct mux_table *t)
 		size_t n_ranges = 0;
 
 		for (int i = 0; i < m->n_signals; i++)
-			if (m->signals[i].mux_parent == mux)
+			if (m->signals[i].mux_parent == mux && !m->signals[i].unusable)
 				n_ranges += m->signals[i].n_mux_ranges;
 		t->ranges = malloc(sizeof(*t->ranges) * (n_ranges + 1));
 		if (!t->ranges)
@@ -198,7 +199,7 @@ static int build_table(struct hl_dbc_message *m, int mux, struct mux_table *t)
 	for (int i = 0; i < m->n_signals; i++) {
 		const struct hl_dbc_signal *s = &m->signals[i];
 
-		if (s->mux_parent != mux)
+		if (s->mux_parent != mux || s->unusable)
 			continue;
 		for (int r = 0; r < s->n_mux_ranges; r++) {
 			t->ranges[t->n_ranges].lo = s->mux_ranges[r].lo;
@@ -264,7 +265,8 @@ int hl_dbc_plan_build(struct hl_dbc_message *m, const struct sig_where *w, struc
 	if (!plan->roots)
 		return -ENOMEM;
 	for (int i = 0; i < m->n_signals; i++) {
-		if (sigs[i].mux_parent < 0)
+		/* a signal past the message's end is never read; nor are its dependents */
+		if (sigs[i].mux_parent < 0 && !sigs[i].unusable)
 			plan->roots[plan->n_roots++] = (uint16_t)i;
 		if (sigs[i].is_multiplexor)
 			plan->n_tables++;
@@ -451,8 +453,13 @@ int hl_dbc_signal_encode(const struct hl_dbc_signal *s, double value, uint8_t *d
 bool hl_dbc_signal_present(const struct hl_dbc_message *m, const struct hl_dbc_signal *s,
 			   const uint8_t *data, size_t len)
 {
+	if (s->unusable)
+		return false;
 	while (s->mux_parent >= 0) {
 		const struct hl_dbc_signal *mux = &m->signals[s->mux_parent];
+
+		if (mux->unusable)
+			return false;
 		uint64_t v;
 		bool in = false;
 

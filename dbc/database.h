@@ -120,6 +120,8 @@ struct hl_dbc_signal {
 	int n_mux_ranges;
 	const struct hl_dbc_mux_range *mux_ranges;
 	int line; /* of its SG_ */
+	/* It extends past its message (a lenient load warned): never decoded, never present. */
+	bool unusable;
 	struct hl_dbc_extract x; /* codec */
 	int mux_table; /* codec: index of its dependents table, -1 */
 };
@@ -158,19 +160,36 @@ struct hl_dbc_counters {
 
 struct hl_dbc;
 
+enum hl_dbc_parse_flags {
+	/* Every irregularity of the file is an error, as before lenient loading. */
+	HL_DBC_STRICT = 1 << 0,
+};
+
 /*
- * Parses a DBC text of len bytes (NUL bytes are an error). Unknown sections are skipped and
- * recorded as warnings. Returns 0, -EBADMSG (err: line, column, what was expected), -ENOMEM.
+ * Parses a DBC text of len bytes (NUL bytes are an error). Returns 0, -EBADMSG (err: line,
+ * column, what was expected), -ENOMEM.
+ *
+ * Lenient (flags 0, the default): what real files get wrong and can still be loaded is loaded,
+ * each such place recorded as a warning (hl_dbc_warning: line, column, what was expected and
+ * what was done instead); docs/dbc-compat.md lists them. A warning never changes what the
+ * valid parts of the file decode to. Unknown sections are skipped with a warning in both modes.
+ * HL_DBC_STRICT: those irregularities are errors with the messages their warnings start with.
  */
+int hl_dbc_parse_flags(const char *text, size_t len, unsigned flags, struct hl_dbc **ret,
+		       struct hl_dbc_error *ret_err);
+/* As hl_dbc_parse_flags for a file; -errno when it cannot be read (err.msg says why, line 0). */
+int hl_dbc_parse_file_flags(const char *path, unsigned flags, struct hl_dbc **ret,
+			    struct hl_dbc_error *ret_err);
+/* hl_dbc_parse_flags and hl_dbc_parse_file_flags with flags 0 (lenient). */
 int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_dbc_error *ret_err);
-/* As hl_dbc_parse for a file; -errno when it cannot be read (err.msg says why, line 0). */
 int hl_dbc_parse_file(const char *path, struct hl_dbc **ret, struct hl_dbc_error *ret_err);
 void hl_dbc_free(struct hl_dbc *db);
 
 const char *hl_dbc_version(const struct hl_dbc *db); /* VERSION string, "" if none */
 const char *hl_dbc_comment(const struct hl_dbc *db); /* network CM_, or NULL */
 int hl_dbc_n_warnings(const struct hl_dbc *db);
-/* Warning i (skipped sections): its place and text, owned by the database. */
+/* Warning i (skipped sections, and irregularities a lenient load read anyway): its place and
+ * text, owned by the database. The library never prints them; the caller does, with the file. */
 const char *hl_dbc_warning(const struct hl_dbc *db, int i, int *ret_line, int *ret_column);
 
 int hl_dbc_n_nodes(const struct hl_dbc *db);

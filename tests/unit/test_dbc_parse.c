@@ -533,7 +533,8 @@ static void dbc_parse_errors_line_column_message(void **state)
 		const struct bad *b = &bads[i];
 
 		print_message("case %zu: %s", i, b->text);
-		assert_int_equal(hl_dbc_parse(b->text, strlen(b->text), &db, &err), -EBADMSG);
+		assert_int_equal(hl_dbc_parse_flags(b->text, strlen(b->text), HL_DBC_STRICT, &db, &err),
+				 -EBADMSG);
 		assert_null(db);
 		print_message("  -> %d:%d: %s\n", err.line, err.column, err.msg);
 		assert_string_equal(err.msg, b->msg);
