@@ -306,7 +306,7 @@ static int run_decode_only(struct options *op)
 	int rc, n_src = 1, exit_code = 1;
 	bool done = false;
 
-	rc = hl_dbc_parse_file(o.cfg.dbc, &db, &derr);
+	rc = hl_dbc_parse_file_flags(o.cfg.dbc, o.cfg.dbc_strict ? HL_DBC_STRICT : 0, &db, &derr);
 	if (rc < 0) {
 		if (derr.line)
 			fprintf(stderr, "hdlampd: '%s':%d:%d: %s\n", o.cfg.dbc, derr.line,
@@ -314,6 +314,12 @@ static int run_decode_only(struct options *op)
 		else
 			fprintf(stderr, "hdlampd: '%s': %s\n", o.cfg.dbc, derr.msg);
 		return 1;
+	}
+	for (int i = 0; i < hl_dbc_n_warnings(db); i++) {
+		int line, col;
+		const char *w = hl_dbc_warning(db, i, &line, &col);
+
+		fprintf(stderr, "hdlampd: '%s':%d:%d: warning: %s\n", o.cfg.dbc, line, col, w);
 	}
 	rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps, o.cfg.timeout_ms, 0,
 			      &a, &aerr);
