@@ -362,7 +362,7 @@ static int get_int(struct parser *p, const char *what, int64_t *ret)
 	for (size_t i = 0; i < p->tok.n; i++) {
 		if (v > (UINT64_MAX - 9) / 10 || v * 10 + (p->tok.p[i] - '0') > max) {
 			v = max;
-			rc = irregular(p, line, col, "clamped to 64 bits",
+			rc = irregular(p, line, col, "clamped to the 64-bit range",
 				       "expected %s, found %s (above %llu)", what, text,
 				       (unsigned long long)max);
 			if (rc < 0)
