@@ -152,7 +152,7 @@ static void assembler_counts_each_injected_fault_once(void **state)
 	struct fixture *f = *state;
 	struct hl_encoded_frame fr[64];
 	struct hl_asm_events ev;
-	struct hl_cycle c;
+	struct hl_cycle c = { 0 }; /* feed() fills it only when a cycle completes */
 	float in[95];
 	unsigned long long rng = 11;
 	const struct hl_lamp_counters *lc = hl_assembler_lamp_counters(f->a, 0);
@@ -320,7 +320,7 @@ static void assembler_hdl_source_default_1_assembles_the_same_cycles(void **stat
 		assert_int_equal(hl_assembler_n_sources(a1, l), hl_assembler_n_sources(f->a, l));
 	for (int cyc = 0; cyc < 12; cyc++) {
 		for (int l = 0; l < 2; l++) {
-			struct hl_cycle c0, c1;
+			struct hl_cycle c0 = { 0 }, c1 = { 0 };
 			struct hl_asm_events ev;
 			int n;
 
