@@ -57,6 +57,8 @@ static void usage(FILE *f)
 		"  --replay LOG       = can.replay: a candump -L log ('-' for stdin) with its timing\n"
 		"  --fast, --loop     = can.replay_fast, can.replay_loop\n"
 		"  --dbc FILE         = can.dbc (default dbc/hd84.dbc)\n"
+		"                     loaded leniently, its irregularities printed as warnings;\n"
+		"                     --set dbc.strict=true refuses them (docs/dbc-compat.md)\n"
 		"  --lamps A,B        = can.lamps (default left,right)\n"
 		"  --timeout-ms N     = can.timeout_ms (default 100)\n"
 		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
