@@ -287,6 +287,32 @@ static int get_string(struct parser *p, const char *what, const char **ret)
 	return next(p);
 }
 
+static int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
+	__attribute__((format(printf, 5, 6)));
+
+/* A number token written as a real (1E+3, 8.0) that is an integer 0..max: lenient, read with a
+ * warning; otherwise the error "expected <what>". */
+static int real_as_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
+{
+	char buf[64];
+	double d;
+	int rc;
+
+	if (p->strict || p->tok.n >= sizeof(buf))
+		return expected(p, what);
+	memcpy(buf, p->tok.p, p->tok.n);
+	buf[p->tok.n] = '\0';
+	d = strtod(buf, NULL);
+	if (d != nearbyint(d) || d >= 0x1p64 || (uint64_t)d > max)
+		return expected(p, what);
+	rc = irregular(p, p->tok.line, p->tok.col, "read as an integer",
+		       "expected %s, found number %s", what, buf);
+	if (rc < 0)
+		return rc;
+	*ret = (uint64_t)d;
+	return next(p);
+}
+
 /* An unsigned integer token up to max. */
 static int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
 {
@@ -296,7 +322,7 @@ static int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *
 		return expected(p, what);
 	for (size_t i = 0; i < p->tok.n; i++) {
 		if (!is_digit(p->tok.p[i]))
-			return expected(p, what);
+			return real_as_uint(p, what, max, ret);
 		if (v > (UINT64_MAX - 9) / 10 || v * 10 + (p->tok.p[i] - '0') > max)
 			return fail_at(p, p->tok.line, p->tok.col,
 				       "expected %s, found %.*s (above %llu)", what,
@@ -307,9 +333,6 @@ static int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *
 	*ret = v;
 	return next(p);
 }
-
-static int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
-	__attribute__((format(printf, 5, 6)));
 
 /*
  * A signed integer: optional sign, then digits, within int64. Errors point at the sign when

@@ -630,6 +630,10 @@ static const struct irregular_case irregular_cases[] = {
 	/* 11: BU_: with its nodes on the next lines (strict: lost, as before) */
 	{ CLEAN "BU_:\n  Extra1 Extra2\n  Extra3\n", 12, 3, NULL,
 	  "node names of BU_ (line 11) continue on the next lines: read as nodes" },
+	/* 12: a real where an unsigned integer stands (here the message size) */
+	{ CLEAN "BO_ 259 Sized: 8.0 ECU\n SG_ S : 0|8@1+ (1,0) [0|0] \"\" Lamp\n", 11, 16,
+	  "expected the message size in bytes (0..64), found number 8.0",
+	  "expected the message size in bytes (0..64), found number 8.0: read as an integer" },
 };
 
 static const uint8_t frames[][8] = {
@@ -771,6 +775,10 @@ static void dbc_lenient_reads_what_can_be_read(void **state)
 	assert_int_equal(m->signals[0].mux_parent, -1);
 	assert_false(m->signals[0].is_multiplexor);
 	assert_int_equal(hl_dbc_decode(m, long_frame, 8, vals), 1);
+	hl_dbc_free(db);
+
+	db = lenient(12); /* size 8.0 is 8 */
+	assert_int_equal(hl_dbc_find_message(db, "Sized")->size, 8);
 	hl_dbc_free(db);
 
 	db = lenient(11); /* BU_ names on the following lines */
