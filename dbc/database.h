@@ -230,8 +230,8 @@ int hl_dbc_signal_attr(const struct hl_dbc *db, const struct hl_dbc_message *m,
 
 /*
  * Decodes the signals of m present in the frame (all unmultiplexed ones, and the multiplexed
- * ones whose multiplexor selects them) into ret_values (room for m->n_signals), multiplexors
- * before their dependents. Returns how many, -EMSGSIZE when len < m->size (nothing read), or
+ * ones whose multiplexor selects them; never an unusable one) into ret_values (room for
+ * m->n_signals), multiplexors before their dependents. Returns how many, -EMSGSIZE when len < m->size (nothing read), or
  * -ENOENT for the independent-signals pseudo message.
  * Allocates nothing.
  */
@@ -262,7 +262,8 @@ int hl_dbc_signal_raw_from_phys(const struct hl_dbc_signal *s, double phys, uint
 int hl_dbc_signal_set_raw(const struct hl_dbc_signal *s, uint64_t raw, uint8_t *data, size_t len);
 /* hl_dbc_signal_raw_from_phys, then hl_dbc_signal_set_raw. */
 int hl_dbc_signal_encode(const struct hl_dbc_signal *s, double phys, uint8_t *data, size_t len);
-/* Whether s is present in a payload (its multiplexor chain selects it); len >= m->size. */
+/* Whether s is present in a payload (its multiplexor chain selects it, and neither it nor a
+ * multiplexor of the chain is unusable); len >= m->size. */
 bool hl_dbc_signal_present(const struct hl_dbc_message *m, const struct hl_dbc_signal *s,
 			   const uint8_t *data, size_t len);
 
