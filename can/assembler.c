@@ -92,7 +92,11 @@ static int plan_message(struct hl_assembler *a, struct plan *p, struct hl_asm_er
 		p->source_of[s] = -1;
 		if (sg->is_multiplexor && sg->mux_parent < 0)
 			p->mux = s;
-		if (hl_dbc_signal_attr(a->db, m, sg, "HdlSource", &v) < 0 || v.i <= 0)
+		/* only an explicit BA_ gives a source: CANdb++ forces a default inside the
+		 * definition's range (INT 1 4096 gives 1), which would put every signal on
+		 * source 1; a multiplexor selects the page and is never a source */
+		if (sg->is_multiplexor || sg->unusable ||
+		    hl_dbc_signal_attr(a->db, m, sg, "HdlSource", &v) != 0 || v.i <= 0)
 			continue;
 		if (v.i > HL_DBC_MAX_SIGNALS)
 			return fail(

@@ -193,6 +193,8 @@ int hl_candump_parse(const char *line, size_t len, struct hl_candump_frame *ret,
 		if (c.s < c.end && *c.s >= '0' && *c.s <= '8')
 			f.frame.len = (uint8_t)(*c.s++ - '0');
 	} else {
+		/* no data bytes is a frame of DLC 0; for an error frame that is how python-can's
+		 * candump writer puts it, the kernel's frame with its data zeroed */
 		rc = parse_data(&c, &f.frame, CAN_MAX_DLEN);
 		if (rc == 0 && at(&c, '_')) {
 			int dlc;

@@ -9,6 +9,8 @@
  *   (1436509052.249713) can0 123#1122334455667788_C  classic 8 bytes sent with DLC 12
  *   (1436509052.249713) can0 123##1<data>          CAN FD: one hex digit of flags, then data
  *   (1436509052.249713) can0 20000004#0000...      error frame (CAN_ERR_FLAG in the ID)
+ *   (2.501000) can0 20000080#                      error frame without data, as python-can's
+ *                                                  can.Logger writes it: DLC 0
  *
  * Data bytes are pairs of hex digits, optionally separated by '.'; an optional " R" / " T"
  * (candump -x: received / transmitted) may follow.

@@ -42,6 +42,8 @@ static const struct key keys[] = {
 	  "lamp names as the DBC's HdlLamp, comma separated" },
 	{ "can", "timeout_ms", INT, F(timeout_ms), 1, 60000,
 	  "a lamp with no complete cycle this long is stale" },
+	{ "dbc", "strict", BOOL, F(dbc_strict), 0, 0,
+	  "refuse a DBC with irregularities instead of loading it with warnings" },
 	{ "lamps", "left", PATH, F(lid_left), 0, 0, "the left lamp's LID file" },
 	{ "lamps", "right", PATH, F(lid_right), 0, 0, "the right lamp's LID file" },
 	{ "lamps", "presets", PATH, F(presets), 0, 0, "directory of NAME.json presets" },

@@ -28,6 +28,8 @@ struct hl_config {
 	char dbc[HL_CONFIG_PATH];
 	char lamps[HL_CONFIG_NAME]; /* lamp names, comma separated */
 	int timeout_ms;
+	/* [dbc] */
+	bool dbc_strict; /* HL_DBC_STRICT: irregularities are errors, not warnings */
 	/* [lamps] */
 	char lid_left[HL_CONFIG_PATH], lid_right[HL_CONFIG_PATH];
 	char presets[HL_CONFIG_PATH]; /* directory of NAME.json presets */

@@ -57,6 +57,8 @@ static void usage(FILE *f)
 		"  --replay LOG       = can.replay: a candump -L log ('-' for stdin) with its timing\n"
 		"  --fast, --loop     = can.replay_fast, can.replay_loop\n"
 		"  --dbc FILE         = can.dbc (default dbc/hd84.dbc)\n"
+		"                     loaded leniently, its irregularities printed as warnings;\n"
+		"                     --set dbc.strict=true refuses them (docs/dbc-compat.md)\n"
 		"  --lamps A,B        = can.lamps (default left,right)\n"
 		"  --timeout-ms N     = can.timeout_ms (default 100)\n"
 		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
@@ -306,7 +308,7 @@ static int run_decode_only(struct options *op)
 	int rc, n_src = 1, exit_code = 1;
 	bool done = false;
 
-	rc = hl_dbc_parse_file(o.cfg.dbc, &db, &derr);
+	rc = hl_dbc_parse_file_flags(o.cfg.dbc, o.cfg.dbc_strict ? HL_DBC_STRICT : 0, &db, &derr);
 	if (rc < 0) {
 		if (derr.line)
 			fprintf(stderr, "hdlampd: '%s':%d:%d: %s\n", o.cfg.dbc, derr.line,
@@ -314,6 +316,12 @@ static int run_decode_only(struct options *op)
 		else
 			fprintf(stderr, "hdlampd: '%s': %s\n", o.cfg.dbc, derr.msg);
 		return 1;
+	}
+	for (int i = 0; i < hl_dbc_n_warnings(db); i++) {
+		int line, col;
+		const char *w = hl_dbc_warning(db, i, &line, &col);
+
+		fprintf(stderr, "hdlampd: '%s':%d:%d: warning: %s\n", o.cfg.dbc, line, col, w);
 	}
 	rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps, o.cfg.timeout_ms, 0,
 			      &a, &aerr);

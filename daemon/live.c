@@ -364,10 +364,17 @@ static int setup(struct live *lv)
 	uint8_t *dims[2] = { NULL, NULL };
 	int n = 0, rc, n_src = 0;
 
-	rc = hl_dbc_parse_file(lv->cfg.dbc, &lv->db, &derr);
+	rc = hl_dbc_parse_file_flags(lv->cfg.dbc, lv->cfg.dbc_strict ? HL_DBC_STRICT : 0, &lv->db,
+				     &derr);
 	if (rc < 0) {
 		log_msg("'%s':%d:%d: %s", lv->cfg.dbc, derr.line, derr.column, derr.msg);
 		return rc;
+	}
+	for (int i = 0; i < hl_dbc_n_warnings(lv->db); i++) {
+		int line, col;
+		const char *w = hl_dbc_warning(lv->db, i, &line, &col);
+
+		log_msg("'%s':%d:%d: warning: %s", lv->cfg.dbc, line, col, w);
 	}
 	snprintf(lamps, sizeof(lamps), "%s", lv->cfg.lamps);
 	for (char *save = NULL, *t = strtok_r(lamps, ",", &save); t && n < HL_ASM_MAX_LAMPS;

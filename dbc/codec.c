@@ -20,9 +20,13 @@
 #include <endian.h>
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "dbc/internal.h"
+
+#define DENSE_MUX_LIMIT 65536 /* entries of a dense multiplexor table, else ranges */
 
 static int motorola_pos(int start_bit)
 {
@@ -103,6 +107,197 @@ double hl_dbc_signal_phys(const struct hl_dbc_signal *s, uint64_t raw)
 	return phys(s, raw);
 }
 
+/* --- the decode plan, built once per message after parsing --- */
+
+static int fail(struct hl_dbc_error *err, int line, int col, const char *fmt, const char *a,
+		const char *b)
+{
+	err->line = line;
+	err->column = col;
+	snprintf(err->msg, sizeof(err->msg), fmt, a, b);
+	return -EBADMSG;
+}
+
+static int cmp_range(const void *a, const void *b)
+{
+	const struct hl_dbc_mux_range *x = a, *y = b;
+
+	return x->lo < y->lo ? -1 : x->lo > y->lo;
+}
+
+/* Sorted, overlaps merged: a value then matches at most one range of a signal. */
+static void normalize_ranges(struct hl_dbc_signal *s)
+{
+	struct hl_dbc_mux_range *r = (struct hl_dbc_mux_range *)s->mux_ranges;
+	int n = 0;
+
+	if (s->n_mux_ranges < 2)
+		return;
+	qsort(r, s->n_mux_ranges, sizeof(*r), cmp_range);
+	for (int i = 1; i < s->n_mux_ranges; i++) {
+		if (r[i].lo <= r[n].hi || (r[n].hi != UINT64_MAX && r[i].lo == r[n].hi + 1)) {
+			if (r[i].hi > r[n].hi)
+				r[n].hi = r[i].hi;
+		} else {
+			r[++n] = r[i];
+		}
+	}
+	s->n_mux_ranges = n + 1;
+}
+
+static bool in_ranges(const struct hl_dbc_signal *s, uint64_t v)
+{
+	for (int i = 0; i < s->n_mux_ranges; i++)
+		if (v >= s->mux_ranges[i].lo && v <= s->mux_ranges[i].hi)
+			return true;
+	return false;
+}
+
+static int build_table(struct hl_dbc_message *m, int mux, struct mux_table *t)
+{
+	uint64_t top = 0;
+	int n_children = 0;
+
+	for (int i = 0; i < m->n_signals; i++) {
+		const struct hl_dbc_signal *s = &m->signals[i];
+
+		if (s->mux_parent != mux || s->unusable)
+			continue;
+		n_children++;
+		for (int r = 0; r < s->n_mux_ranges; r++)
+			if (s->mux_ranges[r].hi > top)
+				top = s->mux_ranges[r].hi;
+	}
+	if (top < DENSE_MUX_LIMIT && (top + 1) * n_children <= DENSE_MUX_LIMIT) {
+		uint32_t k = 0;
+
+		t->n_values = (uint32_t)top + 1;
+		t->offsets = malloc(sizeof(uint32_t) * (t->n_values + 1));
+		t->children = malloc(sizeof(uint16_t) * ((size_t)t->n_values * n_children + 1));
+		if (!t->offsets || !t->children)
+			return -ENOMEM;
+		for (uint32_t v = 0; v < t->n_values; v++) {
+			t->offsets[v] = k;
+			for (int i = 0; i < m->n_signals; i++)
+				if (m->signals[i].mux_parent == mux && !m->signals[i].unusable &&
+				    in_ranges(&m->signals[i], v))
+					t->children[k++] = (uint16_t)i;
+		}
+		t->offsets[t->n_values] = k;
+		return 0;
+	}
+	{
+		size_t n_ranges = 0;
+
+		for (int i = 0; i < m->n_signals; i++)
+			if (m->signals[i].mux_parent == mux && !m->signals[i].unusable)
+				n_ranges += m->signals[i].n_mux_ranges;
+		t->ranges = malloc(sizeof(*t->ranges) * (n_ranges + 1));
+		if (!t->ranges)
+			return -ENOMEM;
+	}
+	for (int i = 0; i < m->n_signals; i++) {
+		const struct hl_dbc_signal *s = &m->signals[i];
+
+		if (s->mux_parent != mux || s->unusable)
+			continue;
+		for (int r = 0; r < s->n_mux_ranges; r++) {
+			t->ranges[t->n_ranges].lo = s->mux_ranges[r].lo;
+			t->ranges[t->n_ranges].hi = s->mux_ranges[r].hi;
+			t->ranges[t->n_ranges].child = (uint16_t)i;
+			t->n_ranges++;
+		}
+	}
+	return 0;
+}
+
+int hl_dbc_plan_build(struct hl_dbc_message *m, const struct sig_where *w, struct hl_dbc_error *err)
+{
+	struct hl_dbc_signal *sigs = (struct hl_dbc_signal *)m->signals;
+	struct hl_dbc_plan *plan;
+	int top = -1, n_top = 0;
+
+	for (int i = 0; i < m->n_signals; i++)
+		if (sigs[i].is_multiplexor && !w[i].mux_value && !w[i].mul_line) {
+			top = i;
+			n_top++;
+		}
+	for (int i = 0; i < m->n_signals; i++) {
+		struct hl_dbc_signal *s = &sigs[i];
+
+		hl_dbc_extract_init(s);
+		if (w[i].mul_line || !w[i].mux_value)
+			continue;
+		/* mN without SG_MUL_VAL_: the message's one plain multiplexor selects it */
+		if (n_top == 0)
+			return fail(
+				err, w[i].line, w[i].column,
+				"signal '%s' is multiplexed (m<n>) but message '%s' has no multiplexor (M)",
+				s->name, m->name);
+		if (n_top > 1)
+			return fail(
+				err, w[i].line, w[i].column,
+				"signal '%s' is multiplexed (m<n>) but message '%s' has several multiplexors: expected an SG_MUL_VAL_ naming one",
+				s->name, m->name);
+		if (top == i)
+			return fail(err, w[i].line, w[i].column,
+				    "signal '%s' of message '%s' is multiplexed by itself", s->name,
+				    m->name);
+		s->mux_parent = top;
+	}
+	for (int i = 0; i < m->n_signals; i++) {
+		int steps = 0;
+
+		normalize_ranges(&sigs[i]);
+		for (int j = sigs[i].mux_parent; j >= 0; j = sigs[j].mux_parent)
+			if (++steps > m->n_signals)
+				return fail(
+					err, w[i].mul_line ? w[i].mul_line : w[i].line,
+					w[i].mul_line ? w[i].mul_column : w[i].column,
+					"the multiplexor chain of signal '%s' in message '%s' loops",
+					sigs[i].name, m->name);
+	}
+	plan = calloc(1, sizeof(*plan));
+	if (!plan)
+		return -ENOMEM;
+	m->plan = plan;
+	plan->roots = malloc(sizeof(uint16_t) * (m->n_signals + 1));
+	if (!plan->roots)
+		return -ENOMEM;
+	for (int i = 0; i < m->n_signals; i++) {
+		/* a signal past the message's end is never read; nor are its dependents */
+		if (sigs[i].mux_parent < 0 && !sigs[i].unusable)
+			plan->roots[plan->n_roots++] = (uint16_t)i;
+		if (sigs[i].is_multiplexor)
+			plan->n_tables++;
+	}
+	plan->tables = calloc(plan->n_tables + 1, sizeof(*plan->tables));
+	if (!plan->tables)
+		return -ENOMEM;
+	for (int i = 0, t = 0; i < m->n_signals; i++) {
+		if (!sigs[i].is_multiplexor)
+			continue;
+		sigs[i].mux_table = t;
+		if (build_table(m, i, &plan->tables[t++]) < 0)
+			return -ENOMEM;
+	}
+	return 0;
+}
+
+void hl_dbc_plan_free(struct hl_dbc_plan *plan)
+{
+	if (!plan)
+		return;
+	for (int i = 0; i < plan->n_tables; i++) {
+		free(plan->tables[i].offsets);
+		free(plan->tables[i].children);
+		free(plan->tables[i].ranges);
+	}
+	free(plan->tables);
+	free(plan->roots);
+	free(plan);
+}
+
 int hl_dbc_decode(const struct hl_dbc_message *m, const uint8_t *data, size_t len,
 		  struct hl_dbc_value *ret_values)
 {
@@ -162,29 +357,6 @@ int hl_dbc_decode(const struct hl_dbc_message *m, const uint8_t *data, size_t le
 				n++;
 			}
 		}
-	}
-	return n;
-}
-
-int hl_dbc_decode_frame(const struct hl_dbc *db, uint32_t can_id, const uint8_t *data, size_t len,
-			struct hl_dbc_counters *counters, const struct hl_dbc_message **ret_msg,
-			struct hl_dbc_value *ret_values)
-{
-	const struct hl_dbc_message *m = hl_dbc_find_id(db, can_id);
-	int n;
-
-	if (!m) {
-		if (counters)
-			counters->unknown_id++;
-		return -ENOENT;
-	}
-	*ret_msg = m;
-	n = hl_dbc_decode(m, data, len, ret_values);
-	if (counters) {
-		if (n < 0)
-			counters->short_frame++;
-		else
-			counters->decoded++;
 	}
 	return n;
 }
@@ -281,8 +453,13 @@ int hl_dbc_signal_encode(const struct hl_dbc_signal *s, double value, uint8_t *d
 bool hl_dbc_signal_present(const struct hl_dbc_message *m, const struct hl_dbc_signal *s,
 			   const uint8_t *data, size_t len)
 {
+	if (s->unusable)
+		return false;
 	while (s->mux_parent >= 0) {
 		const struct hl_dbc_signal *mux = &m->signals[s->mux_parent];
+
+		if (mux->unusable)
+			return false;
 		uint64_t v;
 		bool in = false;
 

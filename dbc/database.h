@@ -120,6 +120,8 @@ struct hl_dbc_signal {
 	int n_mux_ranges;
 	const struct hl_dbc_mux_range *mux_ranges;
 	int line; /* of its SG_ */
+	/* It extends past its message (a lenient load warned): never decoded, never present. */
+	bool unusable;
 	struct hl_dbc_extract x; /* codec */
 	int mux_table; /* codec: index of its dependents table, -1 */
 };
@@ -158,19 +160,36 @@ struct hl_dbc_counters {
 
 struct hl_dbc;
 
+enum hl_dbc_parse_flags {
+	/* Every irregularity of the file is an error, as before lenient loading. */
+	HL_DBC_STRICT = 1 << 0,
+};
+
 /*
- * Parses a DBC text of len bytes (NUL bytes are an error). Unknown sections are skipped and
- * recorded as warnings. Returns 0, -EBADMSG (err: line, column, what was expected), -ENOMEM.
+ * Parses a DBC text of len bytes (NUL bytes are an error). Returns 0, -EBADMSG (err: line,
+ * column, what was expected), -ENOMEM.
+ *
+ * Lenient (flags 0, the default): what real files get wrong and can still be loaded is loaded,
+ * each such place recorded as a warning (hl_dbc_warning: line, column, what was expected and
+ * what was done instead); docs/dbc-compat.md lists them. A warning never changes what the
+ * valid parts of the file decode to. Unknown sections are skipped with a warning in both modes.
+ * HL_DBC_STRICT: those irregularities are errors with the messages their warnings start with.
  */
+int hl_dbc_parse_flags(const char *text, size_t len, unsigned flags, struct hl_dbc **ret,
+		       struct hl_dbc_error *ret_err);
+/* As hl_dbc_parse_flags for a file; -errno when it cannot be read (err.msg says why, line 0). */
+int hl_dbc_parse_file_flags(const char *path, unsigned flags, struct hl_dbc **ret,
+			    struct hl_dbc_error *ret_err);
+/* hl_dbc_parse_flags and hl_dbc_parse_file_flags with flags 0 (lenient). */
 int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_dbc_error *ret_err);
-/* As hl_dbc_parse for a file; -errno when it cannot be read (err.msg says why, line 0). */
 int hl_dbc_parse_file(const char *path, struct hl_dbc **ret, struct hl_dbc_error *ret_err);
 void hl_dbc_free(struct hl_dbc *db);
 
 const char *hl_dbc_version(const struct hl_dbc *db); /* VERSION string, "" if none */
 const char *hl_dbc_comment(const struct hl_dbc *db); /* network CM_, or NULL */
 int hl_dbc_n_warnings(const struct hl_dbc *db);
-/* Warning i (skipped sections): its place and text, owned by the database. */
+/* Warning i (skipped sections, and irregularities a lenient load read anyway): its place and
+ * text, owned by the database. The library never prints them; the caller does, with the file. */
 const char *hl_dbc_warning(const struct hl_dbc *db, int i, int *ret_line, int *ret_column);
 
 int hl_dbc_n_nodes(const struct hl_dbc *db);
@@ -211,15 +230,15 @@ int hl_dbc_signal_attr(const struct hl_dbc *db, const struct hl_dbc_message *m,
 
 /*
  * Decodes the signals of m present in the frame (all unmultiplexed ones, and the multiplexed
- * ones whose multiplexor selects them) into ret_values (room for m->n_signals), multiplexors
- * before their dependents. Returns how many, -EMSGSIZE when len < m->size (nothing read), or
+ * ones whose multiplexor selects them; never an unusable one) into ret_values (room for
+ * m->n_signals), multiplexors before their dependents. Returns how many, -EMSGSIZE when len < m->size (nothing read), or
  * -ENOENT for the independent-signals pseudo message.
  * Allocates nothing.
  */
 int hl_dbc_decode(const struct hl_dbc_message *m, const uint8_t *data, size_t len,
 		  struct hl_dbc_value *ret_values);
 /*
- * Looks up can_id and decodes; counts the outcome in counters (may be NULL). Returns the number
+ * (dbc/database.c) Looks up can_id and decodes; counts the outcome in counters (may be NULL). Returns the number
  * of values, -ENOENT for an unknown ID, -EMSGSIZE for a short frame. *ret_msg is set on
  * success and for short frames.
  */
@@ -243,7 +262,8 @@ int hl_dbc_signal_raw_from_phys(const struct hl_dbc_signal *s, double phys, uint
 int hl_dbc_signal_set_raw(const struct hl_dbc_signal *s, uint64_t raw, uint8_t *data, size_t len);
 /* hl_dbc_signal_raw_from_phys, then hl_dbc_signal_set_raw. */
 int hl_dbc_signal_encode(const struct hl_dbc_signal *s, double phys, uint8_t *data, size_t len);
-/* Whether s is present in a payload (its multiplexor chain selects it); len >= m->size. */
+/* Whether s is present in a payload (its multiplexor chain selects it, and neither it nor a
+ * multiplexor of the chain is unusable); len >= m->size. */
 bool hl_dbc_signal_present(const struct hl_dbc_message *m, const struct hl_dbc_signal *s,
 			   const uint8_t *data, size_t len);
 

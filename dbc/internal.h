@@ -1,5 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* The body of struct hl_dbc, shared by parse.c, database.c and codec.c only. */
+/*
+ * The body of struct hl_dbc, shared by parse.c, database.c and codec.c only. Dependencies point
+ * one way: parse.c -> database.c -> codec.c (codec.c only reads the structs declared here).
+ */
 #ifndef HL_DBC_INTERNAL_H
 #define HL_DBC_INTERNAL_H
 
@@ -92,9 +95,18 @@ struct hl_dbc {
 char *hl_dbc_strndup(struct hl_dbc *db, const char *s, size_t n);
 /* Grows *array (of elem bytes, *cap entries) to hold n + 1: 0 or -ENOMEM. */
 int hl_dbc_grow(void *array, int *cap, int n, size_t elem);
-/* After parsing: resolves multiplexing, precomputes extraction, builds the ID table. 0 or
- * -EBADMSG / -ENOMEM with err set. */
+/* After parsing (database.c): builds every message's plan, then the ID table. 0 or -EBADMSG /
+ * -ENOMEM with err set. */
 int hl_dbc_finish(struct hl_dbc *db, struct hl_dbc_error *err);
+
+/* --- codec.c: uses the types above, never database.c or parse.c --- */
+
+/* Resolves m's multiplexing (w: where each signal came from, for the errors), precomputes each
+ * signal's extraction and builds m->plan. 0, -EBADMSG with err set, or -ENOMEM (a partly built
+ * plan stays in m->plan for hl_dbc_plan_free). */
+int hl_dbc_plan_build(struct hl_dbc_message *m, const struct sig_where *w,
+		      struct hl_dbc_error *err);
+void hl_dbc_plan_free(struct hl_dbc_plan *plan); /* NULL is fine */
 /* Precomputes s->x from start bit, length, order and sign. */
 void hl_dbc_extract_init(struct hl_dbc_signal *s);
 /* Highest byte index + 1 a signal touches. */

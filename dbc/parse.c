@@ -7,6 +7,7 @@
  */
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,7 +44,28 @@ struct parser {
 	struct hl_dbc_error *err;
 	int cur_msg; /* the BO_ whose SG_ lines may follow, -1 */
 	int last_msg; /* cache for message lookups by ID */
+	bool strict; /* HL_DBC_STRICT: every irregularity is an error */
+	/* The first string with a line inside that starts like a section ("BO_ "): where a
+	 * missing '"' most likely is when the quotes turn out unbalanced at the end. */
+	int open_line, open_col, open_swallowed;
 };
+
+/* Whether s (after a newline inside a string) starts like a section: blanks, then a keyword of
+ * capitals, digits and '_' ending in '_', then a blank or ':'. */
+static bool starts_section(const char *s, const char *end)
+{
+	const char *w;
+
+	while (s < end && (*s == ' ' || *s == '\t'))
+		s++;
+	for (w = s; s < end && ((*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') || *s == '_');
+	     s++)
+		;
+	return s - w >= 3 && s[-1] == '_' && s < end && (*s == ' ' || *s == ':');
+}
+
+/* A reference to an object the file does not define: the statement is skipped (lenient). */
+#define SKIP 1
 
 static int fail_at(struct parser *p, int line, int col, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
@@ -169,8 +191,18 @@ static int next(struct parser *p)
 		while (p->s < p->end && *p->s != '"') {
 			if (*p->s == '\\' && p->s + 1 < p->end)
 				advance(p);
+			if (*p->s == '\n' && !p->open_line && starts_section(p->s + 1, p->end)) {
+				p->open_line = t->line;
+				p->open_col = t->col;
+				p->open_swallowed = p->line + 1;
+			}
 			advance(p);
 		}
+		if (p->s == p->end && p->open_line)
+			return fail_at(
+				p, p->open_line, p->open_col,
+				"unterminated string: expected a closing '\"' before line %d, where a section starts",
+				p->open_swallowed);
 		if (p->s == p->end)
 			return fail_at(p, t->line, t->col,
 				       "unterminated string: expected a closing '\"'");
@@ -255,6 +287,32 @@ static int get_string(struct parser *p, const char *what, const char **ret)
 	return next(p);
 }
 
+static int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
+	__attribute__((format(printf, 5, 6)));
+
+/* A number token written as a real (1E+3, 8.0) that is an integer 0..max: lenient, read with a
+ * warning; otherwise the error "expected <what>". */
+static int real_as_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
+{
+	char buf[64];
+	double d;
+	int rc;
+
+	if (p->strict || p->tok.n >= sizeof(buf))
+		return expected(p, what);
+	memcpy(buf, p->tok.p, p->tok.n);
+	buf[p->tok.n] = '\0';
+	d = strtod(buf, NULL);
+	if (d != nearbyint(d) || d >= 0x1p64 || (uint64_t)d > max)
+		return expected(p, what);
+	rc = irregular(p, p->tok.line, p->tok.col, "read as an integer",
+		       "expected %s, found number %s", what, buf);
+	if (rc < 0)
+		return rc;
+	*ret = (uint64_t)d;
+	return next(p);
+}
+
 /* An unsigned integer token up to max. */
 static int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
 {
@@ -264,7 +322,7 @@ static int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *
 		return expected(p, what);
 	for (size_t i = 0; i < p->tok.n; i++) {
 		if (!is_digit(p->tok.p[i]))
-			return expected(p, what);
+			return real_as_uint(p, what, max, ret);
 		if (v > (UINT64_MAX - 9) / 10 || v * 10 + (p->tok.p[i] - '0') > max)
 			return fail_at(p, p->tok.line, p->tok.col,
 				       "expected %s, found %.*s (above %llu)", what,
@@ -276,23 +334,68 @@ static int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *
 	return next(p);
 }
 
-/* A signed integer: optional sign, then digits, within int64. */
+/*
+ * A signed integer: optional sign, then digits, within int64. Errors point at the sign when
+ * there is one. Lenient, an integer written as a real (9.22337203685478E+018, -92E+1, 2.0) is
+ * read rounded to the nearest integer, and one beyond 63 bits is clamped, each with a warning.
+ */
 static int get_int(struct parser *p, const char *what, int64_t *ret)
 {
-	bool neg = false;
-	uint64_t v;
-	int rc;
+	int line = p->tok.line, col = p->tok.col, n, rc;
+	bool neg = false, plain = true;
+	uint64_t v = 0, max;
+	char text[48];
 
 	if (is_punct(p, '-') || is_punct(p, '+')) {
 		neg = is_punct(p, '-');
 		if ((rc = next(p)) < 0)
 			return rc;
 	}
-	rc = get_uint(p, what, neg ? (uint64_t)INT64_MAX + 1 : (uint64_t)INT64_MAX, &v);
-	if (rc < 0)
+	if (p->tok.kind != TOK_NUMBER) {
+		rc = expected(p, what);
+		p->err->line = line;
+		p->err->column = col;
 		return rc;
+	}
+	n = (int)(p->tok.n > 40 ? 40 : p->tok.n);
+	snprintf(text, sizeof(text), "%.*s", n, p->tok.p); /* as errors always quoted it */
+	max = neg ? (uint64_t)INT64_MAX + 1 : (uint64_t)INT64_MAX;
+	for (size_t i = 0; i < p->tok.n && plain; i++)
+		plain = is_digit(p->tok.p[i]);
+	if (!plain) {
+		char buf[64];
+		double d;
+
+		if (p->tok.n >= sizeof(buf))
+			return fail_at(p, line, col, "expected %s, found a number of %zu digits",
+				       what, p->tok.n);
+		memcpy(buf, p->tok.p, p->tok.n);
+		buf[p->tok.n] = '\0';
+		d = nearbyint(strtod(buf, NULL));
+		if (d >= 0x1p63 && !neg)
+			*ret = INT64_MAX;
+		else if (d >= 0x1p63)
+			*ret = INT64_MIN;
+		else
+			*ret = neg ? -(int64_t)d : (int64_t)d;
+		rc = irregular(p, line, col, "read as an integer", "expected %s, found number %s",
+			       what, text);
+		return rc < 0 ? rc : next(p);
+	}
+	for (size_t i = 0; i < p->tok.n; i++) {
+		if (v > (UINT64_MAX - 9) / 10 || v * 10 + (p->tok.p[i] - '0') > max) {
+			v = max;
+			rc = irregular(p, line, col, "clamped to the 64-bit range",
+				       "expected %s, found %s (above %llu)", what, text,
+				       (unsigned long long)max);
+			if (rc < 0)
+				return rc;
+			break;
+		}
+		v = v * 10 + (p->tok.p[i] - '0');
+	}
 	*ret = neg ? (int64_t)(0 - v) : (int64_t)v;
-	return 0;
+	return next(p);
 }
 
 /* A real number: optional sign, digits, fraction, exponent. */
@@ -300,32 +403,34 @@ static int get_number(struct parser *p, const char *what, double *ret)
 {
 	char buf[64];
 	bool neg = false;
-	int rc;
+	int line = p->tok.line, col = p->tok.col, rc; /* errors point at the sign */
 
 	if (is_punct(p, '-') || is_punct(p, '+')) {
 		neg = is_punct(p, '-');
 		if ((rc = next(p)) < 0)
 			return rc;
 	}
-	if (p->tok.kind != TOK_NUMBER)
-		return expected(p, what);
+	if (p->tok.kind != TOK_NUMBER) {
+		rc = expected(p, what);
+		p->err->line = line;
+		p->err->column = col;
+		return rc;
+	}
 	if (p->tok.n >= sizeof(buf))
-		return fail_at(p, p->tok.line, p->tok.col,
-			       "expected %s, found a number of %zu digits", what, p->tok.n);
+		return fail_at(p, line, col, "expected %s, found a number of %zu digits", what,
+			       p->tok.n);
 	memcpy(buf, p->tok.p, p->tok.n);
 	buf[p->tok.n] = '\0';
 	*ret = neg ? -strtod(buf, NULL) : strtod(buf, NULL);
 	return next(p);
 }
 
-static int warn(struct parser *p, int line, int col, const char *fmt, const char *arg)
+static int add_warning(struct parser *p, int line, int col, const char *msg)
 {
 	struct hl_dbc *db = p->db;
-	char msg[160];
 
 	if (hl_dbc_grow(&db->warnings, &db->cap_warnings, db->n_warnings, sizeof(*db->warnings)))
 		return -ENOMEM;
-	snprintf(msg, sizeof(msg), fmt, arg);
 	db->warnings[db->n_warnings].msg = hl_dbc_strndup(db, msg, strlen(msg));
 	if (!db->warnings[db->n_warnings].msg)
 		return -ENOMEM;
@@ -333,6 +438,37 @@ static int warn(struct parser *p, int line, int col, const char *fmt, const char
 	db->warnings[db->n_warnings].column = col;
 	db->n_warnings++;
 	return 0;
+}
+
+static int warn(struct parser *p, int line, int col, const char *fmt, const char *arg)
+{
+	char msg[160];
+
+	snprintf(msg, sizeof(msg), fmt, arg);
+	return add_warning(p, line, col, msg);
+}
+
+static int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
+	__attribute__((format(printf, 5, 6)));
+
+/*
+ * Something real files do that the DBC format does not allow. Strict: the error fmt describes
+ * (-EBADMSG). Lenient: the same text plus what was done instead, as a warning; 0.
+ */
+static int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
+{
+	char msg[512];
+	va_list ap;
+	int n;
+
+	va_start(ap, fmt);
+	n = vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	if (p->strict)
+		return fail_at(p, line, col, "%s", msg);
+	if (n >= 0 && (size_t)n < sizeof(msg))
+		snprintf(msg + n, sizeof(msg) - n, ": %s", action);
+	return add_warning(p, line, col, msg);
 }
 
 /* --- lookups while parsing --- */
@@ -353,7 +489,8 @@ static int find_signal_n(const struct hl_dbc_message *m, const char *s, size_t n
 	return -1;
 }
 
-/* A message ID as the file writes it (bit 31 for extended) that must name a BO_. */
+/* A message ID as the file writes it (bit 31 for extended) that must name a BO_: 0, or SKIP
+ * (lenient, warned) when none does, the statement then to be skipped. */
 static int get_msg_ref(struct parser *p, int *ret)
 {
 	struct hl_dbc *db = p->db;
@@ -372,11 +509,13 @@ static int get_msg_ref(struct parser *p, int *ret)
 			*ret = p->last_msg = i;
 			return 0;
 		}
-	return fail_at(p, line, col, "expected the ID of a message defined by BO_, found %llu",
+	rc = irregular(p, line, col, "statement skipped",
+		       "expected the ID of a message defined by BO_, found %llu",
 		       (unsigned long long)id);
+	return rc < 0 ? rc : SKIP;
 }
 
-/* A message ID and a signal name in it. */
+/* A message ID and a signal name in it: 0, SKIP (as get_msg_ref) or -errno. */
 static int get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig)
 {
 	const char *name = NULL;
@@ -384,7 +523,7 @@ static int get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig)
 	int line, col, rc;
 
 	rc = get_msg_ref(p, ret_msg);
-	if (rc < 0)
+	if (rc != 0)
 		return rc;
 	line = p->tok.line;
 	col = p->tok.col;
@@ -392,9 +531,12 @@ static int get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig)
 	if (rc < 0)
 		return rc;
 	*ret_sig = find_signal_n(&p->db->msgs[*ret_msg], name, n);
-	if (*ret_sig < 0)
-		return fail_at(p, line, col, "expected a signal of message '%s', found '%.*s'",
+	if (*ret_sig < 0) {
+		rc = irregular(p, line, col, "statement skipped",
+			       "expected a signal of message '%s', found '%.*s'",
 			       p->db->msgs[*ret_msg].name, (int)(n > 40 ? 40 : n), name);
+		return rc < 0 ? rc : SKIP;
+	}
 	return 0;
 }
 
@@ -412,6 +554,12 @@ static int skip_statement(struct parser *p, int start_line)
 			return rc;
 	}
 	return 0;
+}
+
+/* After a reference that returned SKIP: the rest of the statement is skipped. */
+static int skipped(struct parser *p, int rc)
+{
+	return rc == SKIP ? skip_statement(p, p->tok.line) : rc;
 }
 
 /* --- sections --- */
@@ -442,15 +590,45 @@ static int parse_bs(struct parser *p)
 	return rc;
 }
 
+/* A word that starts a section: every DBC keyword ends in '_' but VERSION and FILTER. */
+static bool is_section_word(const struct parser *p)
+{
+	return p->tok.kind == TOK_IDENT &&
+	       (p->tok.p[p->tok.n - 1] == '_' || is_word(p, "VERSION") || is_word(p, "FILTER"));
+}
+
 static int parse_bu(struct parser *p)
 {
 	struct hl_dbc *db = p->db;
-	int rc = expect_punct(p, ':', "':' after BU_");
+	int line = p->tok.line, rc = expect_punct(p, ':', "':' after BU_");
+	bool continued = false;
 
-	while (rc == 0 && p->tok.kind == TOK_IDENT && p->tok.line == p->prev_line) {
-		if (find_node(db, p->tok.p, p->tok.n) >= 0)
-			return fail_at(p, p->tok.line, p->tok.col, "node '%.*s' listed twice",
+	while (rc == 0 && p->tok.kind == TOK_IDENT) {
+		if (p->tok.line != line) {
+			/* names on the lines below BU_:, as some generators write them */
+			if (p->strict || is_section_word(p))
+				break;
+			if (!continued) {
+				char msg[128];
+
+				snprintf(
+					msg, sizeof(msg),
+					"node names of BU_ (line %d) continue on the next lines: read as nodes",
+					line);
+				rc = add_warning(p, p->tok.line, p->tok.col, msg);
+				if (rc < 0)
+					return rc;
+				continued = true;
+			}
+		}
+		if (find_node(db, p->tok.p, p->tok.n) >= 0) {
+			rc = irregular(p, p->tok.line, p->tok.col, "read once",
+				       "node '%.*s' listed twice",
 				       (int)(p->tok.n > 40 ? 40 : p->tok.n), p->tok.p);
+			if (rc == 0)
+				rc = next(p);
+			continue;
+		}
 		if (hl_dbc_grow(&db->nodes, &db->cap_nodes, db->n_nodes, sizeof(*db->nodes)))
 			return -ENOMEM;
 		db->nodes[db->n_nodes] = (struct node){ 0 };
@@ -514,14 +692,28 @@ static int parse_bo(struct parser *p)
 	int id_line = p->tok.line, id_col = p->tok.col, name_line, name_col, rc;
 	uint64_t id, size = 0;
 	const char *name = NULL, *tx = NULL;
+	bool independent = false;
 
 	rc = get_uint(p, "a message ID", UINT32_MAX, &id);
 	if (rc < 0)
 		return rc;
 	if (id == 0xC0000000u) {
 		/* VECTOR__INDEPENDENT_SIG_MSG: CANdb++'s holder of unassigned signals */
+		independent = true;
+	} else if (id & 0x40000000u) {
+		/* the same pseudo message as other tools write it: bit 30 without bit 31 */
+		rc = irregular(
+			p, id_line, id_col,
+			"read as a message never on the bus (as VECTOR__INDEPENDENT_SIG_MSG)",
+			(id & HL_DBC_EFF_FLAG) ?
+				"expected a 29-bit extended ID with bit 31 set, found %llu" :
+				"expected a standard ID 0..2047 (extended IDs have bit 31 set), found %llu",
+			(unsigned long long)id);
+		if (rc < 0)
+			return rc;
+		independent = true;
 	} else if (id & HL_DBC_EFF_FLAG) {
-		if (id & 0x60000000u)
+		if (id & 0x20000000u)
 			return fail_at(p, id_line, id_col,
 				       "expected a 29-bit extended ID with bit 31 set, found %llu",
 				       (unsigned long long)id);
@@ -577,7 +769,7 @@ static int parse_bo(struct parser *p)
 	db->where[db->n_msgs] = NULL;
 	m->name = name;
 	m->can_id = (uint32_t)id;
-	m->independent = id == 0xC0000000u;
+	m->independent = independent;
 	m->extended = (id & HL_DBC_EFF_FLAG) && !m->independent;
 	m->id = (uint32_t)id & (m->extended ? 0x1fffffffu : 0x7fffffffu);
 	m->size = (int)size;
@@ -598,7 +790,7 @@ static int parse_sg(struct parser *p, int sg_line)
 	int n_recv = 0, cap_recv = 0, rc, mi = p->cur_msg;
 	int name_col = p->tok.col, where_line, where_col, start_line, start_col, len_line, len_col;
 	uint64_t start = 0, len = 0, order = 0, mux_value = 0;
-	bool is_mux = false, has_value = false, is_signed = false;
+	bool is_mux = false, has_value = false, is_signed = false, unusable = false;
 	double factor = 1, offset = 0, min = 0, max = 0;
 
 	if (mi < 0)
@@ -619,6 +811,14 @@ static int parse_sg(struct parser *p, int sg_line)
 
 		if (n == 1 && t[0] == 'M') {
 			is_mux = true;
+		} else if (n == 1 && t[0] == 'm') {
+			/* a bare m, as some generators write it: no value to select the signal by */
+			rc = irregular(
+				p, where_line, where_col, "read as a signal always present",
+				"expected ':' or a multiplex indicator (M, m<n>, m<n>M), found 'm'");
+			if (rc < 0)
+				return rc;
+			where_col = name_col;
 		} else if (t[0] == 'm' && n >= 2 && is_digit(t[1])) {
 			has_value = true;
 			while (i < n && is_digit(t[i]) && i < 20) {
@@ -723,11 +923,15 @@ static int parse_sg(struct parser *p, int sg_line)
 	/* CANdb++ keeps unassigned signals in its never-sent 0-byte VECTOR__INDEPENDENT_SIG_MSG */
 	if (!m->independent &&
 	    hl_dbc_signal_end_byte((int)start, (int)len, (enum hl_dbc_byte_order)order) > m->size) {
-		free(recv);
-		return fail_at(
-			p, start_line, start_col,
+		rc = irregular(
+			p, start_line, start_col, "the signal is never decoded",
 			"signal '%s' (start bit %d, %d bits, %s) does not fit the %d bytes of message '%s'",
 			name, (int)start, (int)len, order ? "Intel" : "Motorola", m->size, m->name);
+		if (rc < 0) {
+			free(recv);
+			return rc;
+		}
+		unusable = true;
 	}
 	sigs = (struct hl_dbc_signal *)m->signals;
 	if (hl_dbc_grow(&sigs, &db->cap_sigs[mi], m->n_signals, sizeof(*sigs))) {
@@ -759,6 +963,7 @@ static int parse_sg(struct parser *p, int sg_line)
 	s->n_receivers = n_recv;
 	s->receivers = recv;
 	s->is_multiplexor = is_mux;
+	s->unusable = unusable;
 	s->mux_parent = -1;
 	s->mux_table = -1;
 	s->line = sg_line;
@@ -785,8 +990,9 @@ static int parse_bo_tx_bu(struct parser *p)
 	int mi, n = 0, cap = 0, rc;
 
 	rc = get_msg_ref(p, &mi);
-	if (rc == 0)
-		rc = expect_punct(p, ':', "':' after the message ID");
+	if (rc != 0)
+		return skipped(p, rc);
+	rc = expect_punct(p, ':', "':' after the message ID");
 	while (rc == 0 && !is_punct(p, ';')) {
 		if (n > 0)
 			rc = expect_punct(p, ',', "',' or ';' after a node");
@@ -831,23 +1037,26 @@ static int parse_cm(struct parser *p)
 		if (rc < 0)
 			return rc;
 		ni = find_node(db, w, wn);
-		if (ni < 0)
-			return fail_at(p, line, col, "expected a node listed in BU_, found '%.*s'",
+		if (ni < 0) {
+			rc = irregular(p, line, col, "statement skipped",
+				       "expected a node listed in BU_, found '%.*s'",
 				       (int)(wn > 40 ? 40 : wn), w);
+			return skipped(p, rc < 0 ? rc : SKIP);
+		}
 		target = &db->nodes[ni].comment;
 	} else if (is_word(p, "BO_")) {
 		rc = next(p);
 		if (rc == 0)
 			rc = get_msg_ref(p, &mi);
-		if (rc < 0)
-			return rc;
+		if (rc != 0)
+			return skipped(p, rc);
 		target = &db->msgs[mi].comment;
 	} else if (is_word(p, "SG_")) {
 		rc = next(p);
 		if (rc == 0)
 			rc = get_sig_ref(p, &mi, &si);
-		if (rc < 0)
-			return rc;
+		if (rc != 0)
+			return skipped(p, rc);
 		target = &((struct hl_dbc_signal *)db->msgs[mi].signals)[si].comment;
 	} else if (is_word(p, "EV_")) {
 		rc = next(p);
@@ -1020,7 +1229,7 @@ static int parse_attr_value(struct parser *p, const struct hl_dbc_attr_def *d,
 
 static int get_def_ref(struct parser *p, int *ret)
 {
-	const char *name;
+	const char *name = NULL; /* set by get_string only when it returns 0 */
 	int line = p->tok.line, col = p->tok.col, rc;
 
 	rc = get_string(p, "the attribute name string", &name);
@@ -1042,6 +1251,22 @@ static int parse_ba_def_def(struct parser *p)
 	if (rc < 0)
 		return rc;
 	d = &p->db->defs[di];
+	if (d->type == HL_DBC_ATTR_ENUM && p->tok.kind == TOK_STRING && p->tok.n == 0) {
+		bool label = false;
+
+		for (int i = 0; i < d->n_labels; i++)
+			label |= d->labels[i][0] == '\0';
+		if (!label) {
+			/* CANdb++ writes "" for an enum whose default was never chosen */
+			rc = irregular(p, p->tok.line, p->tok.col, "the attribute has no default",
+				       "expected one of the labels of '%s', found \"\"", d->name);
+			if (rc == 0)
+				rc = next(p);
+			if (rc == 0)
+				rc = expect_punct(p, ';', "';' after the default value");
+			return rc;
+		}
+	}
 	rc = parse_attr_value(p, d, &d->def);
 	if (rc == 0)
 		rc = expect_punct(p, ';', "';' after the default value");
@@ -1080,16 +1305,23 @@ static int parse_ba(struct parser *p)
 		if (rc < 0)
 			return rc;
 		a.index = find_node(db, w, wn);
-		if (a.index < 0)
-			return fail_at(p, line, col, "expected a node listed in BU_, found '%.*s'",
+		if (a.index < 0) {
+			rc = irregular(p, line, col, "statement skipped",
+				       "expected a node listed in BU_, found '%.*s'",
 				       (int)(wn > 40 ? 40 : wn), w);
+			return skipped(p, rc < 0 ? rc : SKIP);
+		}
 		break;
 	}
 	case HL_DBC_MESSAGE:
 		rc = get_msg_ref(p, &a.index);
+		if (rc != 0)
+			return skipped(p, rc);
 		break;
 	case HL_DBC_SIGNAL:
 		rc = get_sig_ref(p, &a.index, &a.signal);
+		if (rc != 0)
+			return skipped(p, rc);
 		break;
 	case HL_DBC_ENVVAR: {
 		const char *w = NULL;
@@ -1123,8 +1355,9 @@ static int parse_val(struct parser *p)
 	if (p->tok.kind == TOK_IDENT) /* an environment variable's values: not kept */
 		return skip_statement(p, p->tok.line);
 	rc = get_sig_ref(p, &mi, &si);
-	if (rc == 0)
-		rc = parse_value_descs(p, &v, &n);
+	if (rc != 0)
+		return skipped(p, rc);
+	rc = parse_value_descs(p, &v, &n);
 	if (rc < 0)
 		return rc;
 	s = &((struct hl_dbc_signal *)p->db->msgs[mi].signals)[si];
@@ -1141,8 +1374,9 @@ static int parse_sig_valtype(struct parser *p)
 	uint64_t t;
 
 	rc = get_sig_ref(p, &mi, &si);
-	if (rc == 0)
-		rc = expect_punct(p, ':', "':' after the signal name");
+	if (rc != 0)
+		return skipped(p, rc);
+	rc = expect_punct(p, ':', "':' after the signal name");
 	line = p->tok.line;
 	col = p->tok.col;
 	if (rc == 0)
@@ -1170,8 +1404,8 @@ static int parse_sg_mul_val(struct parser *p, int kw_line, int kw_col)
 	int mi, si, mux, line, col, n = 0, cap = 0, rc;
 
 	rc = get_sig_ref(p, &mi, &si);
-	if (rc < 0)
-		return rc;
+	if (rc != 0)
+		return skipped(p, rc);
 	m = &db->msgs[mi];
 	s = &((struct hl_dbc_signal *)m->signals)[si];
 	line = p->tok.line;
@@ -1297,12 +1531,74 @@ static int parse_statement(struct parser *p)
 	}
 }
 
-int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_dbc_error *ret_err)
+/* A name set by one of CANdb++'s long-name attributes (STRING, set by BA_), or NULL. */
+static const char *long_name(int rc, const struct hl_dbc_attr_value *v)
+{
+	return rc == 0 && v->type == HL_DBC_ATTR_STRING && v->s && v->s[0] ? v->s : NULL;
+}
+
+static void rename_node(const char **ref, const char *old, const char *name)
+{
+	if (*ref && strcmp(*ref, old) == 0)
+		*ref = name;
+}
+
+/*
+ * CANdb++ cuts names to 32 characters in the sections and keeps the whole name in the
+ * attributes SystemNodeLongSymbol, SystemMessageLongSymbol and SystemSignalLongSymbol: the long
+ * name replaces the cut one once every reference has been resolved.
+ */
+static void apply_long_names(struct hl_dbc *db)
+{
+	struct hl_dbc_attr_value v;
+	const char *name;
+
+	for (int i = 0; i < db->n_nodes; i++) {
+		const char *old = db->nodes[i].name;
+
+		name = long_name(hl_dbc_node_attr(db, old, "SystemNodeLongSymbol", &v), &v);
+		if (!name)
+			continue;
+		for (int j = 0; j < db->n_msgs; j++) {
+			struct hl_dbc_message *m = &db->msgs[j];
+
+			rename_node(&m->transmitter, old, name);
+			for (int k = 0; k < m->n_tx_nodes; k++)
+				rename_node((const char **)&m->tx_nodes[k], old, name);
+			for (int k = 0; k < m->n_signals; k++) {
+				const struct hl_dbc_signal *s = &m->signals[k];
+
+				for (int r = 0; r < s->n_receivers; r++)
+					rename_node((const char **)&s->receivers[r], old, name);
+			}
+		}
+		db->nodes[i].name = name;
+	}
+	for (int j = 0; j < db->n_msgs; j++) {
+		struct hl_dbc_message *m = &db->msgs[j];
+
+		for (int k = 0; k < m->n_signals; k++) {
+			struct hl_dbc_signal *s = (struct hl_dbc_signal *)&m->signals[k];
+
+			name = long_name(hl_dbc_signal_attr(db, m, s, "SystemSignalLongSymbol", &v),
+					 &v);
+			if (name)
+				s->name = name;
+		}
+		name = long_name(hl_dbc_message_attr(db, m, "SystemMessageLongSymbol", &v), &v);
+		if (name)
+			m->name = name;
+	}
+}
+
+int hl_dbc_parse_flags(const char *text, size_t len, unsigned flags, struct hl_dbc **ret,
+		       struct hl_dbc_error *ret_err)
 {
 	struct hl_dbc_error dummy;
 	struct parser p = { .s = text, .end = text + len, .line = 1, .col = 1 };
 	int rc;
 
+	p.strict = flags & HL_DBC_STRICT;
 	p.err = ret_err ? ret_err : &dummy;
 	*p.err = (struct hl_dbc_error){ 0 };
 	p.cur_msg = -1;
@@ -1319,8 +1615,10 @@ int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_db
 	rc = next(&p);
 	while (rc == 0 && p.tok.kind != TOK_EOF)
 		rc = parse_statement(&p);
-	if (rc == 0)
+	if (rc == 0) {
+		apply_long_names(p.db);
 		rc = hl_dbc_finish(p.db, p.err);
+	}
 	if (rc < 0) {
 		if (rc == -ENOMEM)
 			*p.err = (struct hl_dbc_error){ 0, 0, "out of memory" };
@@ -1331,7 +1629,18 @@ int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_db
 	return 0;
 }
 
+int hl_dbc_parse(const char *text, size_t len, struct hl_dbc **ret, struct hl_dbc_error *ret_err)
+{
+	return hl_dbc_parse_flags(text, len, 0, ret, ret_err);
+}
+
 int hl_dbc_parse_file(const char *path, struct hl_dbc **ret, struct hl_dbc_error *ret_err)
+{
+	return hl_dbc_parse_file_flags(path, 0, ret, ret_err);
+}
+
+int hl_dbc_parse_file_flags(const char *path, unsigned flags, struct hl_dbc **ret,
+			    struct hl_dbc_error *ret_err)
 {
 	struct hl_dbc_error dummy;
 	struct hl_dbc_error *err = ret_err ? ret_err : &dummy;
@@ -1375,7 +1684,7 @@ int hl_dbc_parse_file(const char *path, struct hl_dbc **ret, struct hl_dbc_error
 	}
 	close(fd);
 	text[got] = '\0';
-	rc = hl_dbc_parse(text, got, ret, err);
+	rc = hl_dbc_parse_flags(text, got, flags, ret, err);
 	free(text);
 	return rc;
 }

@@ -16,27 +16,35 @@
 static void usage(FILE *f)
 {
 	fprintf(f,
-		"usage: hdlamp dbc info FILE\n"
-		"       hdlamp dbc decode --dbc FILE [LOG|-]\n"
-		"       hdlamp dbc encode --dbc FILE --message NAME [--e2e] [--counter N]\n"
+		"usage: hdlamp dbc info [--strict] FILE\n"
+		"       hdlamp dbc decode [--strict] --dbc FILE [LOG|-]\n"
+		"       hdlamp dbc encode [--strict] --dbc FILE --message NAME [--e2e] [--counter N]\n"
 		"                         [--time SEC.USEC] [--iface NAME] [SIGNAL=VALUE ...]\n"
+		"\n"
+		"The .dbc is loaded leniently: what real files get wrong but can be read (comments\n"
+		"or values for signals that do not exist, signals past their message, exponents\n"
+		"in integers, ...) is read and printed as a warning with file:line:column on\n"
+		"stderr. --strict refuses such files instead (the daemon: dbc.strict = true).\n"
+		"See docs/dbc-compat.md.\n"
 		"\n"
 		"info    messages, signals, multiplexing, value tables, comments and every\n"
 		"        attribute (set or default) of a .dbc file\n"
 		"decode  reads candump -L lines (classic and CAN FD) from LOG or stdin and writes\n"
 		"        one JSON object per frame: t, iface, id, name, signals (physical values),\n"
 		"        e2e: ok | crc | repeated | lost (with \"lost\": n) | counter | none\n"
-		"        (unknown IDs: \"name\": null; short frames: \"error\")\n"
+		"        (unknown IDs: \"name\": null; short frames: \"error\"; error frames:\n"
+		"        \"error_frame\": true, counted apart). A float value that is NaN or\n"
+		"        infinite is written as the string \"NaN\", \"Infinity\" or \"-Infinity\"\n"
 		"encode  prints one candump -L line of message NAME; unset signals are 0, a VALUE\n"
 		"        is a physical value or a VAL_ description; --e2e computes the CRC of the\n"
 		"        message's HdlE2E profile and writes --counter N (default: the counter the\n"
 		"        payload already has)\n");
 }
 
-static int load(const char *path, struct hl_dbc **ret)
+static int load(const char *path, unsigned flags, struct hl_dbc **ret)
 {
 	struct hl_dbc_error err;
-	int rc = hl_dbc_parse_file(path, ret, &err);
+	int rc = hl_dbc_parse_file_flags(path, flags, ret, &err);
 
 	if (rc < 0) {
 		if (err.line)
@@ -183,6 +191,8 @@ static void print_signal(const struct hl_dbc *db, const struct hl_dbc_message *m
 	printf("\n");
 	if (mux[0])
 		printf("        present when %s\n", mux);
+	if (s->unusable)
+		printf("        unusable: extends past the message, never decoded\n");
 	print_attrs(db, HL_DBC_SIGNAL, m, s, NULL, "        ");
 	if (s->n_values) {
 		printf("        values:");
@@ -194,11 +204,11 @@ static void print_signal(const struct hl_dbc *db, const struct hl_dbc_message *m
 		print_comment(s->comment, "        ");
 }
 
-static int info(const char *path)
+static int info(const char *path, unsigned flags)
 {
 	struct hl_dbc *db;
 
-	if (load(path, &db) < 0)
+	if (load(path, flags, &db) < 0)
 		return HL_EXIT_FAIL;
 	printf("file:     %s\n", path);
 	printf("version:  \"%s\"\n", hl_dbc_version(db));
@@ -281,6 +291,16 @@ static int info(const char *path)
 
 static void format_value(char *buf, const struct hl_dbc_signal *s, uint64_t raw, double phys)
 {
+	/* JSON has no NaN or infinity: strings with the names Python's json gives them, so
+	 * that the three stay apart (docs/dbc-compat.md) */
+	if (isnan(phys)) {
+		strcpy(buf, "\"NaN\"");
+		return;
+	}
+	if (isinf(phys)) {
+		strcpy(buf, phys > 0 ? "\"Infinity\"" : "\"-Infinity\"");
+		return;
+	}
 	/* plain integers print exactly, also beyond 2^53 */
 	if (s->type == HL_DBC_INTEGER && s->factor == 1 && s->offset == 0) {
 		if (s->is_signed)
@@ -444,7 +464,7 @@ static void put_string(FILE *out, const char *s)
 	putc('"', out);
 }
 
-static int decode(const char *dbc_path, const char *log_path)
+static int decode(const char *dbc_path, unsigned flags, const char *log_path)
 {
 	struct hl_dbc *db;
 	struct hl_dbc_counters counters = { 0 };
@@ -456,9 +476,10 @@ static int decode(const char *dbc_path, const char *log_path)
 	size_t cap = 0;
 	ssize_t n;
 	long lineno = 0, bad_lines = 0;
+	uint64_t error_frames = 0;
 	int rc = HL_EXIT_FAIL;
 
-	if (load(dbc_path, &db) < 0)
+	if (load(dbc_path, flags, &db) < 0)
 		return HL_EXIT_FAIL;
 	if (e2e_configs(db, dbc_path, &st) < 0)
 		goto out;
@@ -495,6 +516,16 @@ static int decode(const char *dbc_path, const char *log_path)
 			fprintf(stderr, "hdlamp dbc: '%s':%ld:%d: %s\n", log_path, lineno,
 				err.column, err.msg);
 			bad_lines++;
+			continue;
+		}
+		if (f.frame.can_id & CAN_ERR_FLAG) {
+			/* counted, never decoded; python-can writes them with no data bytes */
+			fprintf(out, "{\"t\":%lld.%06lld,\"iface\":", (long long)(f.t_us / 1000000),
+				(long long)(f.t_us % 1000000));
+			put_string(out, f.iface);
+			fprintf(out, ",\"id\":\"0x%08x\",\"error_frame\":true,\"len\":%u}\n",
+				f.frame.can_id & (CAN_ERR_FLAG | CAN_ERR_MASK), f.frame.len);
+			error_frames++;
 			continue;
 		}
 		id = f.frame.can_id & (CAN_EFF_FLAG | CAN_EFF_MASK);
@@ -558,12 +589,13 @@ static int decode(const char *dbc_path, const char *log_path)
 		fprintf(stderr, "hdlamp dbc: write error: %s\n", strerror(errno));
 		goto out;
 	}
-	if (bad_lines || counters.unknown_id || counters.short_frame)
+	if (bad_lines || counters.unknown_id || counters.short_frame || error_frames)
 		fprintf(stderr,
-			"hdlamp dbc: %llu frames decoded, %llu with unknown IDs, %llu short, %ld malformed lines\n",
+			"hdlamp dbc: %llu frames decoded, %llu with unknown IDs, %llu short, %ld malformed lines, %llu error frames\n",
 			(unsigned long long)counters.decoded,
 			(unsigned long long)counters.unknown_id,
-			(unsigned long long)counters.short_frame, bad_lines);
+			(unsigned long long)counters.short_frame, bad_lines,
+			(unsigned long long)error_frames);
 	rc = bad_lines ? HL_EXIT_FAIL : HL_EXIT_OK;
 out:
 	if (in && in != stdin)
@@ -627,8 +659,8 @@ static int fd_len(int size)
 	return 64;
 }
 
-static int encode(const char *dbc_path, const char *msg_name, bool e2e, long counter, int64_t t_us,
-		  const char *iface, int n_args, char **args)
+static int encode(const char *dbc_path, unsigned flags, const char *msg_name, bool e2e,
+		  long counter, int64_t t_us, const char *iface, int n_args, char **args)
 {
 	struct hl_dbc *db;
 	const struct hl_dbc_message *m;
@@ -639,7 +671,7 @@ static int encode(const char *dbc_path, const char *msg_name, bool e2e, long cou
 	int rc = HL_EXIT_FAIL, max_depth = 0;
 	bool fd;
 
-	if (load(dbc_path, &db) < 0)
+	if (load(dbc_path, flags, &db) < 0)
 		return HL_EXIT_FAIL;
 	m = hl_dbc_find_message(db, msg_name);
 	if (!m) {
@@ -766,9 +798,11 @@ int hl_cmd_dbc(int argc, char **argv)
 		{ "counter", required_argument, NULL, 'c' },
 		{ "time", required_argument, NULL, 't' },
 		{ "iface", required_argument, NULL, 'i' },
+		{ "strict", no_argument, NULL, 's' },
 		{ "help", no_argument, NULL, 'h' },
 		{ 0 },
 	};
+	unsigned flags = 0;
 	const char *dbc = NULL, *msg = NULL, *iface = "can0", *sub;
 	bool e2e = false;
 	long counter = -1;
@@ -823,6 +857,9 @@ int hl_cmd_dbc(int argc, char **argv)
 			}
 			iface = optarg;
 			break;
+		case 's':
+			flags |= HL_DBC_STRICT;
+			break;
 		case 'h':
 			usage(stdout);
 			return HL_EXIT_OK;
@@ -836,14 +873,14 @@ int hl_cmd_dbc(int argc, char **argv)
 			usage(stderr);
 			return HL_EXIT_USAGE;
 		}
-		return info(argv[optind]);
+		return info(argv[optind], flags);
 	}
 	if (strcmp(sub, "decode") == 0) {
 		if (!dbc || msg || optind < argc - 1) {
 			usage(stderr);
 			return HL_EXIT_USAGE;
 		}
-		return decode(dbc, optind < argc ? argv[optind] : "-");
+		return decode(dbc, flags, optind < argc ? argv[optind] : "-");
 	}
 	if (strcmp(sub, "encode") == 0) {
 		if (!dbc || !msg) {
@@ -856,7 +893,8 @@ int hl_cmd_dbc(int argc, char **argv)
 			gettimeofday(&tv, NULL);
 			t_us = (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
 		}
-		return encode(dbc, msg, e2e, counter, t_us, iface, argc - optind, argv + optind);
+		return encode(dbc, flags, msg, e2e, counter, t_us, iface, argc - optind,
+			      argv + optind);
 	}
 	fprintf(stderr, "hdlamp dbc: unknown subcommand '%s'\n", sub);
 	usage(stderr);

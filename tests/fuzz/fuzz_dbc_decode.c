@@ -33,7 +33,16 @@ static const char kinds_dbc[] = "BO_ 200 Mux: 8 ECU\n"
 				"SIG_VALTYPE_ 2566848766 F : 1;\n"
 				"SIG_VALTYPE_ 2566848766 D : 2;\n"
 				"SG_MUL_VAL_ 200 C Sub 3-3, 5-7;\n"
-				"SG_MUL_VAL_ 200 Sub Sel 2-2;\n";
+				"SG_MUL_VAL_ 200 Sub Sel 2-2;\n"
+				/* loaded leniently: signals past the message's 2 bytes are
+				 * never decoded, nor what they multiplex */
+				"BO_ 300 Short: 2 ECU\n"
+				" SG_ Sel M : 0|4@1+ (1,0) [0|0] \"\" X\n"
+				" SG_ Ok m1 : 8|8@1+ (1,0) [0|0] \"\" X\n"
+				" SG_ Past m1 : 500|12@1+ (1,0) [0|0] \"\" X\n"
+				" SG_ PastMux m2M : 15|16@0+ (1,0) [0|0] \"\" X\n"
+				" SG_ Under m3 : 4|4@1+ (1,0) [0|0] \"\" X\n"
+				"SG_MUL_VAL_ 300 Under PastMux 3-3;\n";
 
 static struct hl_dbc *dbs[3];
 static struct hl_dbc_value vals[256];
@@ -81,6 +90,8 @@ static void decode(const uint8_t *data, size_t size)
 			const struct hl_dbc_signal *s = &m->signals[vals[k].signal];
 			uint64_t raw;
 
+			if (s->unusable)
+				abort();
 			if (hl_dbc_signal_get_raw(s, payload, len, &raw) < 0 || raw != vals[k].raw)
 				abort();
 			if (!hl_dbc_signal_present(m, s, payload, len))

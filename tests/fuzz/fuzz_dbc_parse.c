@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * libFuzzer target: the DBC parser never crashes, fails only with a place and a message, and
- * what it accepts decodes and encodes consistently (set_raw then get_raw gives the bits back).
+ * libFuzzer target: the DBC parser, lenient and strict, never crashes, fails only with a place
+ * and a message, warns only with a place, and what it accepts decodes and encodes consistently
+ * (set_raw then get_raw gives the bits back; a signal past its message is never decoded).
  */
 #include <errno.h>
 #include <stdint.h>
@@ -10,7 +11,7 @@
 
 #include "dbc/database.h"
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+static void check(const uint8_t *data, size_t size, unsigned flags)
 {
 	struct hl_dbc *db = NULL;
 	struct hl_dbc_error err;
@@ -19,12 +20,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 	for (size_t i = 0; i < size; i++)
 		lines += data[i] == '\n';
-	rc = hl_dbc_parse((const char *)data, size, &db, &err);
+	rc = hl_dbc_parse_flags((const char *)data, size, flags, &db, &err);
 	if (rc < 0) {
 		if (rc != -EBADMSG || db || err.line < 1 || err.line > lines || err.column < 1 ||
 		    !err.msg[0])
 			abort();
-		return 0;
+		return;
+	}
+	for (int i = 0; i < hl_dbc_n_warnings(db); i++) {
+		int line = 0, col = 0;
+		const char *w = hl_dbc_warning(db, i, &line, &col);
+
+		if (!w || !w[0] || line < 1 || line > lines || col < 1)
+			abort();
 	}
 	vals = malloc(sizeof(*vals) * (hl_dbc_max_signals(db) + 1));
 	if (!vals)
@@ -42,7 +50,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (m->independent ? n != -ENOENT : (n < 0 || n > m->n_signals))
 			abort();
 		for (int k = 0; k < n; k++)
-			if (vals[k].signal >= (uint32_t)m->n_signals)
+			if (vals[k].signal >= (uint32_t)m->n_signals ||
+			    m->signals[vals[k].signal].unusable)
 				abort();
 		for (int k = 0; k < m->n_signals; k++) {
 			const struct hl_dbc_signal *s = &m->signals[k];
@@ -53,6 +62,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			(void)hl_dbc_signal_attr(db, m, s, "HdlSource", &v);
 			if (m->independent)
 				continue;
+			if (s->unusable) {
+				if ((flags & HL_DBC_STRICT) ||
+				    hl_dbc_signal_set_raw(s, raw, frame, m->size) != -EMSGSIZE ||
+				    hl_dbc_signal_present(m, s, frame, 64))
+					abort();
+				continue;
+			}
 			if (hl_dbc_signal_set_raw(s, raw, frame, m->size) < 0 ||
 			    hl_dbc_signal_get_raw(s, frame, m->size, &back) < 0)
 				abort();
@@ -63,5 +79,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	}
 	free(vals);
 	hl_dbc_free(db);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	check(data, size, 0);
+	check(data, size, HL_DBC_STRICT);
 	return 0;
 }

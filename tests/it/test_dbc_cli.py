@@ -195,7 +195,7 @@ def test_usage_and_bad_database(tmp_path):
     assert run("decode", check=False).returncode == 2
     assert run("info", check=False).returncode == 2
     assert run("frob", check=False).returncode == 2
-    assert run("--help").stdout.startswith("usage: hdlamp dbc info FILE")
+    assert run("--help").stdout.startswith("usage: hdlamp dbc info [--strict] FILE")
     bad = tmp_path / "bad.dbc"
     bad.write_text('VERSION ""\n\nBO_ 1 A: 8 E\n SG_ S : 0|8@3+ (1,0) [0|1] "" X\n')
     p = run("info", str(bad), check=False)

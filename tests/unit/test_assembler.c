@@ -152,7 +152,7 @@ static void assembler_counts_each_injected_fault_once(void **state)
 	struct fixture *f = *state;
 	struct hl_encoded_frame fr[64];
 	struct hl_asm_events ev;
-	struct hl_cycle c;
+	struct hl_cycle c = { 0 }; /* feed() fills it only when a cycle completes */
 	float in[95];
 	unsigned long long rng = 11;
 	const struct hl_lamp_counters *lc = hl_assembler_lamp_counters(f->a, 0);
@@ -264,6 +264,84 @@ static void assembler_rejects_a_dbc_that_does_not_fit_the_lamps(void **state)
 	hl_dbc_free(db);
 }
 
+/* hd84.dbc text with HdlSource defined as CANdb++ writes it when the range excludes 0. */
+static struct hl_dbc *load_db_default_1(void)
+{
+	char path[512], *text, *at;
+	struct hl_dbc *db = NULL;
+	struct hl_dbc_error err;
+	FILE *f;
+	long n;
+
+	snprintf(path, sizeof(path), "%s/dbc/hd84.dbc", getenv("HL_SOURCE_DIR"));
+	f = fopen(path, "re");
+	assert_non_null(f);
+	fseek(f, 0, SEEK_END);
+	n = ftell(f);
+	rewind(f);
+	text = calloc(1, n + 1);
+	assert_non_null(text);
+	assert_int_equal(fread(text, 1, n, f), n);
+	fclose(f);
+	at = strstr(text, "\"HdlSource\" INT 0 4096;");
+	assert_non_null(at);
+	at[strlen("\"HdlSource\" INT ")] = '1';
+	at = strstr(text, "BA_DEF_DEF_  \"HdlSource\" 0;");
+	assert_non_null(at);
+	at[strlen("BA_DEF_DEF_  \"HdlSource\" ")] = '1';
+	if (hl_dbc_parse(text, n, &db, &err) < 0)
+		fail_msg("%d:%d: %s", err.line, err.column, err.msg);
+	free(text);
+	return db;
+}
+
+/* Sources come from explicit BA_ only: a default of 1 (INT 1 4096) gives the same cycles. */
+static void assembler_hdl_source_default_1_assembles_the_same_cycles(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_dbc *db1 = load_db_default_1();
+	struct hl_assembler *a1 = NULL;
+	struct hl_asm_error err;
+	unsigned long long rng = 11;
+	struct hl_encoded_frame fr[64];
+	float in[95];
+	const struct hl_dbc_message *m = hl_dbc_find_message(db1, "HL_Dim_L");
+	struct hl_dbc_attr_value v;
+
+	/* the CRC, counter and page signals read the default 1, yet carry no source */
+	assert_non_null(m);
+	for (int s = 0; s < m->n_signals; s++)
+		if (m->signals[s].is_multiplexor)
+			assert_int_equal(
+				hl_dbc_signal_attr(db1, m, &m->signals[s], "HdlSource", &v), 1);
+	assert_int_equal(v.i, 1);
+	assert_int_equal(hl_assembler_new(db1, lamps, 2, 100, 0, &a1, &err), 0);
+	for (int l = 0; l < 2; l++)
+		assert_int_equal(hl_assembler_n_sources(a1, l), hl_assembler_n_sources(f->a, l));
+	for (int cyc = 0; cyc < 12; cyc++) {
+		for (int l = 0; l < 2; l++) {
+			struct hl_cycle c0 = { 0 }, c1 = { 0 };
+			struct hl_asm_events ev;
+			int n;
+
+			values(&rng, in);
+			/* encoded with the default-0 database, assembled with both */
+			n = hl_assembler_encode(f->a, l, in, (unsigned)cyc % 15, fr, 64);
+			assert_true(n >= 2);
+			assert_int_equal(feed(f->a, fr, n, cyc * 20 * MS, &c0, &ev), 1);
+			assert_int_equal(feed(a1, fr, n, cyc * 20 * MS, &c1, &ev), 1);
+			assert_int_equal(c1.lamp, c0.lamp);
+			assert_true(c1.seq == c0.seq);
+			assert_int_equal(c1.counter, c0.counter);
+			assert_int_equal(c1.n_sources, c0.n_sources);
+			assert_memory_equal(c1.i, c0.i, sizeof(float) * c0.n_sources);
+			assert_memory_equal(c1.i, in, sizeof(in));
+		}
+	}
+	hl_assembler_free(a1);
+	hl_dbc_free(db1);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -284,6 +362,9 @@ int main(void)
 		cmocka_unit_test_setup_teardown(assembler_counts_each_injected_fault_once, setup_fd,
 						teardown),
 		cmocka_unit_test(assembler_rejects_a_dbc_that_does_not_fit_the_lamps),
+		cmocka_unit_test_setup_teardown(
+			assembler_hdl_source_default_1_assembles_the_same_cycles, setup_classic,
+			teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -99,6 +99,12 @@ static void candump_remote_error_len8_dir(void **state)
 	assert_int_equal(f.frame.len, 8);
 	assert_int_equal(f.frame.data[2], 0x08);
 	assert_round_trip("(0000000001.500000) can0 20000004#0000080000000000");
+	/* python-can's writer gives an error frame no data bytes: DLC 0 */
+	f = parse_ok("(2.501000) can0 20000080#");
+	assert_int_equal(f.frame.can_id, CAN_ERR_FLAG | 0x80); /* CAN_ERR_BUSERROR */
+	assert_int_equal(f.frame.len, 0);
+	assert_false(f.fd);
+	assert_round_trip("(0000000002.501000) can0 20000080#");
 	f = parse_ok("(1.5) can0 123#1122334455667788_C");
 	assert_int_equal(f.len8_dlc, 12);
 	assert_round_trip("(0000000001.500000) can0 123#1122334455667788_C");

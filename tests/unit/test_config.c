@@ -37,6 +37,7 @@ static void config_defaults_are_the_documented_ones(void **state)
 	assert_string_equal(c.stream_tcp, "127.0.0.1:5600");
 	assert_string_equal(c.http_listen, "127.0.0.1:8080");
 	assert_false(c.http_capture);
+	assert_false(c.dbc_strict); /* the DBC loads leniently */
 }
 
 static void config_file_then_overrides(void **state)
@@ -62,6 +63,8 @@ static void config_file_then_overrides(void **state)
 	assert_true(c.http_capture);
 	assert_int_equal(hl_config_set_arg(&c, "lamps.failsafe=dark", "command line", &err), 0);
 	assert_int_equal(c.failsafe, HL_FAILSAFE_DARK);
+	assert_int_equal(hl_config_set_arg(&c, "dbc.strict=true", "command line", &err), 0);
+	assert_true(c.dbc_strict);
 	assert_int_equal(hl_config_set_arg(&c, "stream.tcp=", "command line", &err), 0);
 	assert_string_equal(c.stream_tcp, "");
 	assert_int_equal(hl_config_check(&c, &err), 0);

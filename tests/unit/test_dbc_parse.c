@@ -533,7 +533,9 @@ static void dbc_parse_errors_line_column_message(void **state)
 		const struct bad *b = &bads[i];
 
 		print_message("case %zu: %s", i, b->text);
-		assert_int_equal(hl_dbc_parse(b->text, strlen(b->text), &db, &err), -EBADMSG);
+		assert_int_equal(hl_dbc_parse_flags(b->text, strlen(b->text), HL_DBC_STRICT, &db,
+						    &err),
+				 -EBADMSG);
 		assert_null(db);
 		print_message("  -> %d:%d: %s\n", err.line, err.column, err.msg);
 		assert_string_equal(err.msg, b->msg);
@@ -555,6 +557,338 @@ static void dbc_parse_nul_byte(void **state)
 	assert_string_equal(err.msg, "unexpected byte 0x00");
 }
 
+/* --- lenient loading: one small database per irregularity real files have --- */
+
+/* A clean database; each case below appends one irregularity to it (from line 11). */
+#define CLEAN                                            \
+	"VERSION \"\"\n"                                 \
+	"BU_: ECU Lamp\n"                                \
+	"BO_ 256 Good: 8 ECU\n"                          \
+	" SG_ Sel M : 0|8@1+ (1,0) [0|255] \"\" Lamp\n"  \
+	" SG_ A m0 : 8|16@1- (0.5,-3) [0|0] \"\" Lamp\n" \
+	" SG_ B m1 : 8|8@0+ (1,0) [0|0] \"\" Lamp\n"     \
+	" SG_ C : 39|16@0- (1,0) [0|0] \"\" Lamp\n"      \
+	"BO_ 2147483904 Ext: 8 ECU\n"                    \
+	" SG_ F : 0|32@1- (1,0) [0|0] \"\" Lamp\n"       \
+	"SIG_VALTYPE_ 2147483904 F : 1;\n"
+
+struct irregular_case {
+	const char *text;
+	int line, column; /* of the warning, and of the strict error */
+	const char *strict; /* today's refusal; NULL: strict loads as before */
+	const char *warning; /* lenient */
+};
+
+static const struct irregular_case irregular_cases[] = {
+	/* 0: CM_ SG_ of a signal the message does not have */
+	{ CLEAN "CM_ SG_ 256 Gone \"removed long ago\";\n", 11, 13,
+	  "expected a signal of message 'Good', found 'Gone'",
+	  "expected a signal of message 'Good', found 'Gone': statement skipped" },
+	/* 1: VAL_ for a message no BO_ defines (a fragment of another file) */
+	{ CLEAN "VAL_ 999 A 0 \"zero\" 1 \"one\" ;\n", 11, 6,
+	  "expected the ID of a message defined by BO_, found 999",
+	  "expected the ID of a message defined by BO_, found 999: statement skipped" },
+	/* 2: BA_ ... SG_ of a missing signal */
+	{ CLEAN "BA_DEF_ SG_ \"X\" INT 0 10;\nBA_ \"X\" SG_ 256 Gone 3;\n", 12, 17,
+	  "expected a signal of message 'Good', found 'Gone'",
+	  "expected a signal of message 'Good', found 'Gone': statement skipped" },
+	/* 3: an ENUM attribute whose default is "" */
+	{ CLEAN "BA_DEF_ BO_ \"E\" ENUM \"a\",\"b\";\nBA_DEF_DEF_ \"E\" \"\";\n", 12, 17,
+	  "expected one of the labels of 'E', found \"\"",
+	  "expected one of the labels of 'E', found \"\": the attribute has no default" },
+	/* 4: a signal past the end of its message */
+	{ CLEAN "BO_ 257 Short: 2 ECU\n"
+		" SG_ Ok : 0|8@1+ (1,0) [0|0] \"\" Lamp\n"
+		" SG_ Past : 8|16@1+ (1,0) [0|0] \"\" Lamp\n",
+	  13, 13,
+	  "signal 'Past' (start bit 8, 16 bits, Intel) does not fit the 2 bytes of message 'Short'",
+	  "signal 'Past' (start bit 8, 16 bits, Intel) does not fit the 2 bytes of message 'Short': the signal is never decoded" },
+	/* 5: the same node twice in BU_ */
+	{ CLEAN "BU_: Lamp\n", 11, 6, "node 'Lamp' listed twice",
+	  "node 'Lamp' listed twice: read once" },
+	/* 6: VECTOR__INDEPENDENT_SIG_MSG with bit 30 (0x40000000) instead of 0xC0000000 */
+	{ CLEAN "BO_ 1073741824 VECTOR__INDEPENDENT_SIG_MSG: 0 Vector__XXX\n"
+		" SG_ Orphan : 0|8@1+ (1,0) [0|0] \"\" Vector__XXX\n",
+	  11, 5, "expected a standard ID 0..2047 (extended IDs have bit 31 set), found 1073741824",
+	  "expected a standard ID 0..2047 (extended IDs have bit 31 set), found 1073741824: read as a message never on the bus (as VECTOR__INDEPENDENT_SIG_MSG)" },
+	/* 7: an integer in exponent notation, beyond 63 bits */
+	{ CLEAN "BA_DEF_ BO_ \"Big\" INT 0 9.22337203685478E+018;\n", 11, 25,
+	  "expected the attribute's maximum, found number 9.22337203685478E+018",
+	  "expected the attribute's maximum, found number 9.22337203685478E+018: read as an integer" },
+	/* 8: a negative one: the column is the '-' */
+	{ CLEAN "BA_DEF_ BO_ \"Neg\" INT -92E+1 0;\n", 11, 23,
+	  "expected the attribute's minimum, found number 92E+1",
+	  "expected the attribute's minimum, found number 92E+1: read as an integer" },
+	/* 9: an integer beyond 63 bits in an attribute range */
+	{ CLEAN "BA_DEF_ BO_ \"Huge\" HEX 0 18446744073709551615;\n", 11, 26,
+	  "expected the attribute's maximum, found 18446744073709551615 (above 9223372036854775807)",
+	  "expected the attribute's maximum, found 18446744073709551615 (above 9223372036854775807): clamped to the 64-bit range" },
+	/* 10: a bare m */
+	{ CLEAN "BO_ 258 Bare: 8 ECU\n SG_ X m : 0|8@1+ (1,0) [0|0] \"\" Lamp\n", 12, 8,
+	  "expected ':' or a multiplex indicator (M, m<n>, m<n>M), found 'm'",
+	  "expected ':' or a multiplex indicator (M, m<n>, m<n>M), found 'm': read as a signal always present" },
+	/* 11: BU_: with its nodes on the next lines (strict: lost, as before) */
+	{ CLEAN "BU_:\n  Extra1 Extra2\n  Extra3\n", 12, 3, NULL,
+	  "node names of BU_ (line 11) continue on the next lines: read as nodes" },
+	/* 12: a real where an unsigned integer stands (here the message size) */
+	{ CLEAN "BO_ 259 Sized: 8.0 ECU\n SG_ S : 0|8@1+ (1,0) [0|0] \"\" Lamp\n", 11, 16,
+	  "expected the message size in bytes (0..64), found number 8.0",
+	  "expected the message size in bytes (0..64), found number 8.0: read as an integer" },
+};
+
+static const uint8_t frames[][8] = {
+	{ 0, 0x34, 0x92, 0x80, 0x7f, 0x01, 0x02, 0x03 },
+	{ 1, 0xfe, 0x12, 0x00, 0x81, 0xff, 0xff, 0xff },
+	{ 7, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff },
+	{ 0x00, 0x00, 0xc0, 0x7f, 0, 0, 0, 0 }, /* F: NaN */
+};
+
+/* Every message of clean decodes in db to the same signals, raw bits and values. */
+static void assert_decodes_as(const struct hl_dbc *clean, const struct hl_dbc *db)
+{
+	struct hl_dbc_value a[16], b[16];
+
+	for (int i = 0; i < hl_dbc_n_messages(clean); i++) {
+		const struct hl_dbc_message *mc = hl_dbc_message(clean, i);
+		const struct hl_dbc_message *md = hl_dbc_find_message(db, mc->name);
+
+		assert_non_null(md);
+		assert_ptr_equal(hl_dbc_find_id(db, mc->can_id), md);
+		for (size_t f = 0; f < sizeof(frames) / sizeof(frames[0]); f++) {
+			int n = hl_dbc_decode(mc, frames[f], 8, a);
+
+			assert_true(n > 0);
+			assert_int_equal(hl_dbc_decode(md, frames[f], 8, b), n);
+			for (int k = 0; k < n; k++) {
+				assert_string_equal(mc->signals[a[k].signal].name,
+						    md->signals[b[k].signal].name);
+				assert_true(a[k].raw == b[k].raw);
+				assert_memory_equal(&a[k].phys, &b[k].phys, sizeof(double));
+			}
+		}
+	}
+}
+
+static void dbc_lenient_loads_each_irregularity_strict_refuses_it(void **state)
+{
+	struct hl_dbc *clean = NULL;
+	struct hl_dbc_error err;
+
+	(void)state;
+	assert_int_equal(hl_dbc_parse_flags(CLEAN, strlen(CLEAN), HL_DBC_STRICT, &clean, &err), 0);
+	assert_int_equal(hl_dbc_n_warnings(clean), 0);
+	for (size_t i = 0; i < sizeof(irregular_cases) / sizeof(irregular_cases[0]); i++) {
+		const struct irregular_case *c = &irregular_cases[i];
+		struct hl_dbc *db = NULL;
+		int line = 0, col = 0;
+
+		print_message("case %zu\n", i);
+		assert_int_equal(hl_dbc_parse(c->text, strlen(c->text), &db, &err), 0);
+		assert_int_equal(hl_dbc_n_warnings(db), 1);
+		assert_string_equal(hl_dbc_warning(db, 0, &line, &col), c->warning);
+		assert_int_equal(line, c->line);
+		assert_int_equal(col, c->column);
+		assert_decodes_as(clean, db);
+		hl_dbc_free(db);
+
+		db = NULL;
+		if (!c->strict) {
+			assert_int_equal(hl_dbc_parse_flags(c->text, strlen(c->text), HL_DBC_STRICT,
+							    &db, &err),
+					 0);
+			hl_dbc_free(db);
+			continue;
+		}
+		assert_int_equal(hl_dbc_parse_flags(c->text, strlen(c->text), HL_DBC_STRICT, &db,
+						    &err),
+				 -EBADMSG);
+		assert_null(db);
+		assert_string_equal(err.msg, c->strict);
+		assert_int_equal(err.line, c->line);
+		assert_int_equal(err.column, c->column);
+	}
+	hl_dbc_free(clean);
+}
+
+static struct hl_dbc *lenient(int i)
+{
+	struct hl_dbc *db = NULL;
+	struct hl_dbc_error err;
+
+	assert_int_equal(hl_dbc_parse(irregular_cases[i].text, strlen(irregular_cases[i].text), &db,
+				      &err),
+			 0);
+	return db;
+}
+
+/* What the lenient reading of each case made of the irregular part. */
+static void dbc_lenient_reads_what_can_be_read(void **state)
+{
+	struct hl_dbc *db;
+	const struct hl_dbc_message *m;
+	struct hl_dbc_attr_value v;
+	struct hl_dbc_value vals[4];
+	static const uint8_t long_frame[8] = { 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88 };
+
+	(void)state;
+	db = lenient(3); /* ENUM default "": no default */
+	m = hl_dbc_find_message(db, "Good");
+	assert_int_equal(hl_dbc_message_attr(db, m, "E", &v), -ENOENT);
+	hl_dbc_free(db);
+
+	db = lenient(4); /* the signal past the end: never decoded, never present */
+	m = hl_dbc_find_message(db, "Short");
+	assert_false(m->signals[0].unusable);
+	assert_true(m->signals[1].unusable);
+	assert_int_equal(hl_dbc_decode(m, long_frame, 2, vals), 1);
+	assert_int_equal(hl_dbc_decode(m, long_frame, 8, vals), 1);
+	assert_int_equal(vals[0].signal, 0);
+	assert_true(vals[0].raw == 0x11);
+	assert_false(hl_dbc_signal_present(m, &m->signals[1], long_frame, 8));
+	hl_dbc_free(db);
+
+	db = lenient(5); /* the node once */
+	assert_int_equal(hl_dbc_n_nodes(db), 2);
+	hl_dbc_free(db);
+
+	db = lenient(6); /* the bit-30 pseudo message: loaded, never on the bus */
+	m = hl_dbc_find_message(db, "VECTOR__INDEPENDENT_SIG_MSG");
+	assert_true(m->independent);
+	assert_false(m->extended);
+	assert_int_equal(m->n_signals, 1);
+	assert_null(hl_dbc_find_id(db, 0x40000000u));
+	assert_int_equal(hl_dbc_decode(m, long_frame, 8, vals), -ENOENT);
+	hl_dbc_free(db);
+
+	db = lenient(7); /* clamped to INT64_MAX */
+	assert_true(hl_dbc_attr_def(db, 0)->max == 0x1p63);
+	hl_dbc_free(db);
+	db = lenient(8);
+	assert_true(hl_dbc_attr_def(db, 0)->min == -920);
+	hl_dbc_free(db);
+	db = lenient(9);
+	assert_true(hl_dbc_attr_def(db, 0)->max == 0x1p63);
+	hl_dbc_free(db);
+
+	db = lenient(10); /* bare m: always present, no multiplexor */
+	m = hl_dbc_find_message(db, "Bare");
+	assert_int_equal(m->signals[0].mux_parent, -1);
+	assert_false(m->signals[0].is_multiplexor);
+	assert_int_equal(hl_dbc_decode(m, long_frame, 8, vals), 1);
+	hl_dbc_free(db);
+
+	db = lenient(12); /* size 8.0 is 8 */
+	assert_int_equal(hl_dbc_find_message(db, "Sized")->size, 8);
+	hl_dbc_free(db);
+
+	db = lenient(11); /* BU_ names on the following lines */
+	assert_int_equal(hl_dbc_n_nodes(db), 5);
+	assert_string_equal(hl_dbc_node(db, 2), "Extra1");
+	assert_string_equal(hl_dbc_node(db, 4), "Extra3");
+	hl_dbc_free(db);
+	{
+		struct hl_dbc_error err;
+		const char *t = irregular_cases[11].text;
+		int line, col;
+
+		/* strict: as before, the names are lost to an unknown section */
+		assert_int_equal(hl_dbc_parse_flags(t, strlen(t), HL_DBC_STRICT, &db, &err), 0);
+		assert_int_equal(hl_dbc_n_nodes(db), 2);
+		assert_string_equal(hl_dbc_warning(db, 0, &line, &col),
+				    "skipped unknown section 'Extra1'");
+		assert_int_equal(line, 12);
+		hl_dbc_free(db);
+	}
+}
+
+/* Exponent notation in signal fields was always read; no warning. */
+static void dbc_numbers_in_exponent_notation(void **state)
+{
+	static const char text[] = "BO_ 1 M: 8 E\n"
+				   " SG_ S : 0|64@1- (1E-1,-92E+1) [-9.22337203685478E+018|"
+				   "9.22337203685478E+018] \"\" X\n";
+	struct hl_dbc *db;
+	const struct hl_dbc_signal *s;
+
+	(void)state;
+	db = parse(text);
+	assert_int_equal(hl_dbc_n_warnings(db), 0);
+	s = &hl_dbc_message(db, 0)->signals[0];
+	assert_true(s->factor == 0.1);
+	assert_true(s->offset == -920);
+	assert_true(s->min == -9.22337203685478e18);
+	assert_true(s->max == 9.22337203685478e18);
+	hl_dbc_free(db);
+}
+
+/* CANdb++'s long names replace the 32-character ones, in references too. */
+static void dbc_long_name_attributes(void **state)
+{
+	static const char text[] =
+		"BU_: ShortNode Other\n"
+		"BO_ 16 ShortMsg: 8 ShortNode\n"
+		" SG_ ShortSig : 0|8@1+ (1,0) [0|0] \"\" ShortNode,Other\n"
+		"BO_TX_BU_ 16 : ShortNode,Other;\n"
+		"BA_DEF_ BU_ \"SystemNodeLongSymbol\" STRING ;\n"
+		"BA_DEF_ BO_ \"SystemMessageLongSymbol\" STRING ;\n"
+		"BA_DEF_ SG_ \"SystemSignalLongSymbol\" STRING ;\n"
+		"BA_DEF_DEF_ \"SystemNodeLongSymbol\" \"\";\n"
+		"BA_DEF_DEF_ \"SystemMessageLongSymbol\" \"\";\n"
+		"BA_DEF_DEF_ \"SystemSignalLongSymbol\" \"\";\n"
+		"BA_ \"SystemNodeLongSymbol\" BU_ ShortNode \"Headlamp_Control_Unit_Left_Front_Module\";\n"
+		"BA_ \"SystemMessageLongSymbol\" BO_ 16 \"Headlamp_Matrix_Intensities_Left_Page\";\n"
+		"BA_ \"SystemSignalLongSymbol\" SG_ 16 ShortSig \"Matrix_Segment_Intensity_Number_001\";\n"
+		"CM_ SG_ 16 ShortSig \"found by its short name\";\n";
+	struct hl_dbc *db = parse(text);
+	const struct hl_dbc_message *m;
+
+	(void)state;
+	assert_int_equal(hl_dbc_n_warnings(db), 0);
+	assert_string_equal(hl_dbc_node(db, 0), "Headlamp_Control_Unit_Left_Front_Module");
+	assert_string_equal(hl_dbc_node(db, 1), "Other");
+	m = hl_dbc_find_message(db, "Headlamp_Matrix_Intensities_Left_Page");
+	assert_non_null(m);
+	assert_null(hl_dbc_find_message(db, "ShortMsg"));
+	assert_string_equal(m->transmitter, "Headlamp_Control_Unit_Left_Front_Module");
+	assert_string_equal(m->tx_nodes[0], "Headlamp_Control_Unit_Left_Front_Module");
+	assert_string_equal(m->signals[0].name, "Matrix_Segment_Intensity_Number_001");
+	assert_string_equal(m->signals[0].receivers[0], "Headlamp_Control_Unit_Left_Front_Module");
+	assert_string_equal(m->signals[0].receivers[1], "Other");
+	assert_string_equal(m->signals[0].comment, "found by its short name");
+	hl_dbc_free(db);
+}
+
+/* An unterminated string is reported where it begins: at the string that swallowed a section
+ * when the quotes come out unbalanced further down, else where the last one opens. */
+static void dbc_unterminated_string_points_at_its_start(void **state)
+{
+	static const char swallowed[] = "BO_ 1 M: 8 E\n"
+					" SG_ S : 0|8@1+ (1,0) [0|1] \"\" X\n"
+					"CM_ SG_ 1 S \"a comment without its end;\n" /* line 3 */
+					"BO_ 2 N: 8 E\n"
+					" SG_ T : 0|8@1+ (1,0) [0|1] \"\" X\n";
+	static const char at_end[] = "BO_ 1 M: 8 E\n"
+				     "CM_ BO_ 1 \"runs\n to the end\n";
+	struct hl_dbc *db = NULL;
+	struct hl_dbc_error err;
+
+	(void)state;
+	for (unsigned flags = 0; flags <= HL_DBC_STRICT; flags += HL_DBC_STRICT) {
+		assert_int_equal(hl_dbc_parse_flags(swallowed, strlen(swallowed), flags, &db, &err),
+				 -EBADMSG);
+		assert_int_equal(err.line, 3);
+		assert_int_equal(err.column, 13);
+		assert_string_equal(
+			err.msg,
+			"unterminated string: expected a closing '\"' before line 4, where a section starts");
+		assert_int_equal(hl_dbc_parse_flags(at_end, strlen(at_end), flags, &db, &err),
+				 -EBADMSG);
+		assert_int_equal(err.line, 2);
+		assert_int_equal(err.column, 11);
+		assert_string_equal(err.msg, "unterminated string: expected a closing '\"'");
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -565,6 +899,11 @@ int main(void)
 		cmocka_unit_test(dbc_parse_file_missing),
 		cmocka_unit_test(dbc_parse_errors_line_column_message),
 		cmocka_unit_test(dbc_parse_nul_byte),
+		cmocka_unit_test(dbc_lenient_loads_each_irregularity_strict_refuses_it),
+		cmocka_unit_test(dbc_lenient_reads_what_can_be_read),
+		cmocka_unit_test(dbc_numbers_in_exponent_notation),
+		cmocka_unit_test(dbc_long_name_attributes),
+		cmocka_unit_test(dbc_unterminated_string_points_at_its_start),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
