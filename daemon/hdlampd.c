@@ -14,7 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "daemon/clock.h"
 #include "can/socket.h"
 #include "daemon/can_input.h"
 #include "daemon/config.h"
@@ -328,7 +328,7 @@ static int run_decode_only(struct options *op)
 	if (o.cfg.interface[0]) {
 		hl_assembler_free(a);
 		rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps,
-				      o.cfg.timeout_ms, hl_monotonic_ns(), &a, &aerr);
+				      o.cfg.timeout_ms, hl_clock_monotonic_ns(), &a, &aerr);
 		if (rc < 0)
 			goto out;
 	}

@@ -13,7 +13,7 @@
 #include <sys/signalfd.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "daemon/clock.h"
 #include "daemon/can_input.h"
 #include "daemon/capture.h"
 #include "daemon/frame_pool.h"
@@ -75,7 +75,7 @@ static void on_published(void *ud, const struct hl_frame *f)
 static void on_alive(void *ud)
 {
 	struct live *lv = ud;
-	const int64_t now = hl_monotonic_ns();
+	const int64_t now = hl_clock_monotonic_ns();
 
 	if (lv->watchdog_us && now - lv->watchdog_last_ns >= (int64_t)lv->watchdog_us * 1000) {
 		hl_notify_watchdog();
@@ -378,7 +378,7 @@ static int setup(struct live *lv)
 		return -EINVAL;
 	}
 	rc = hl_assembler_new(lv->db, (const char *const *)names, n, lv->cfg.timeout_ms,
-			      lv->cfg.interface[0] ? hl_monotonic_ns() : 0, &lv->a, &aerr);
+			      lv->cfg.interface[0] ? hl_clock_monotonic_ns() : 0, &lv->a, &aerr);
 	if (rc < 0) {
 		log_msg("'%s': %s", lv->cfg.dbc, aerr.msg);
 		return rc;
@@ -598,7 +598,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		int64_t now;
 
 		log_changes(&lv, &prev);
-		now = hl_monotonic_ns();
+		now = hl_clock_monotonic_ns();
 		/* READY once the lamps are loaded, the renderer is up and the bus is open */
 		if (!ready && prev.link_up) {
 			hl_notify_ready("running");
@@ -610,7 +610,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		}
 		if (prev.done) {
 			/* a finite replay ended: let the last frame out, then stop */
-			hl_sleep_until(hl_monotonic_ns() + 200000000, NULL);
+			hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + 200000000);
 			code = 0;
 			break;
 		}

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "daemon/clock.h"
 #include "render/egl.h"
 #include "render/frame_exr.h"
 #include "render/renderer.h"
@@ -292,7 +292,7 @@ static void render(struct hl_pipeline *p)
 {
 	struct hl_frame *f = hl_frame_pool_acquire(p->pool);
 	const struct hl_snapshot *s = p->snap;
-	const int64_t t0 = hl_monotonic_ns();
+	const int64_t t0 = hl_clock_monotonic_ns();
 	uint32_t flags = 0;
 	enum hl_failsafe mode;
 	double ev;
@@ -366,13 +366,13 @@ static void render(struct hl_pipeline *p)
 		f->hdr.t_cycle_rx_ns = s->lamps[newest].t_rx_first_ns;
 		f->hdr.t_cycle_done_ns = s->t_push_ns;
 		f->hdr.t_render_start_ns = t0;
-		f->hdr.t_render_done_ns = hl_monotonic_ns();
+		f->hdr.t_render_done_ns = hl_clock_monotonic_ns();
 		f->hdr.t_sent_ns = 0;
 		hl_frame_pool_publish(p->pool, f);
 		if (p->hooks.published)
 			p->hooks.published(p->hooks.userdata, f);
 	}
-	record_time(p, (double)(hl_monotonic_ns() - t0) / 1e6, f != NULL, flags);
+	record_time(p, (double)(hl_clock_monotonic_ns() - t0) / 1e6, f != NULL, flags);
 }
 
 /*
@@ -399,10 +399,10 @@ static bool other_lamp_due(const struct hl_pipeline *p)
 /* Waits up to coalesce_ns for the other lamp's cycle (render.coalesce_ms), taking the newest. */
 static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
 {
-	const int64_t until = hl_monotonic_ns() + coalesce_ns;
+	const int64_t until = hl_clock_monotonic_ns() + coalesce_ns;
 
 	while (other_lamp_due(p) && !atomic_load(&p->stop)) {
-		const int64_t left = until - hl_monotonic_ns();
+		const int64_t left = until - hl_clock_monotonic_ns();
 		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
 		struct timespec ts = { left / 1000000000, left % 1000000000 };
 		uint64_t wakes;
@@ -421,7 +421,7 @@ static void *thread_main(void *arg)
 	struct hl_pipeline *p = arg;
 	const int64_t period_ns = p->cfg.rate_hz > 0 ? (int64_t)(1e9 / p->cfg.rate_hz) : 0;
 	const int64_t coalesce_ns = (int64_t)(p->cfg.coalesce_ms * 1e6);
-	int64_t next_ns = hl_monotonic_ns();
+	int64_t next_ns = hl_clock_monotonic_ns();
 	bool have = false;
 	int rc = setup(p);
 
@@ -442,7 +442,7 @@ static void *thread_main(void *arg)
 		if (p->hooks.alive)
 			p->hooks.alive(p->hooks.userdata);
 		if (period_ns) {
-			const int64_t now = hl_monotonic_ns();
+			const int64_t now = hl_clock_monotonic_ns();
 
 			timeout_ms = next_ns > now ? (int)((next_ns - now) / 1000000) : 0;
 		}
@@ -455,7 +455,7 @@ static void *thread_main(void *arg)
 		if (!have)
 			continue;
 		if (period_ns) {
-			if (hl_monotonic_ns() < next_ns)
+			if (hl_clock_monotonic_ns() < next_ns)
 				continue;
 			next_ns += period_ns;
 			render(p);

@@ -17,7 +17,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "daemon/clock.h"
 
 #define MAX_CLIENTS 64
 #define POLL_MS 100
@@ -249,7 +249,7 @@ static void load_frame(struct hl_stream *s, struct client *c)
 	if (!f)
 		return;
 	h = f->hdr;
-	h.t_sent_ns = hl_monotonic_ns();
+	h.t_sent_ns = hl_clock_monotonic_ns();
 	c->frame = f;
 	c->hdr = h;
 	c->len = (s->raw ? 0 : sizeof(h)) + h.payload_size;
