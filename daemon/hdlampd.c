@@ -20,8 +20,6 @@
 #include "daemon/config.h"
 #include "daemon/live.h"
 
-#define MAX_LAMPS HL_ASM_MAX_LAMPS
-
 static volatile sig_atomic_t stop_requested;
 
 static void on_signal(int sig)
@@ -37,7 +35,7 @@ struct options {
 	const char *config_path;
 	char *overrides[MAX_OVERRIDES]; /* SECTION.KEY=VALUE, in order; re-applied on reload */
 	int n_overrides;
-	char *lamp_names[MAX_LAMPS];
+	char *lamp_names[HL_ASM_MAX_LAMPS];
 	int n_lamps;
 	char lamps_buf[HL_CONFIG_NAME];
 	unsigned ring_slots;
@@ -195,8 +193,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 	snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
 	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save); tok;
 	     tok = strtok_r(NULL, ",", &save)) {
-		if (o->n_lamps == MAX_LAMPS) {
-			fprintf(stderr, "hdlampd: can.lamps: at most %d lamps\n", MAX_LAMPS);
+		if (o->n_lamps == HL_ASM_MAX_LAMPS) {
+			fprintf(stderr, "hdlampd: can.lamps: at most %d lamps\n", HL_ASM_MAX_LAMPS);
 			return -EINVAL;
 		}
 		o->lamp_names[o->n_lamps++] = tok;
@@ -210,8 +208,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 
 /* What the output thread last saw, to report changes. */
 struct seen {
-	uint64_t cycle_seq[MAX_LAMPS];
-	uint32_t lamp_status[MAX_LAMPS];
+	uint64_t cycle_seq[HL_ASM_MAX_LAMPS];
+	uint32_t lamp_status[HL_ASM_MAX_LAMPS];
 	uint32_t status, bus;
 	int32_t link_errno;
 };

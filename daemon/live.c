@@ -31,7 +31,7 @@ struct live {
 	const struct hl_live_args *args;
 	struct hl_dbc *db;
 	struct hl_assembler *a;
-	struct hl_lid *lids[2];
+	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
 	int n_lamps;
 	struct hl_ring *ring;
 	struct hl_frame_pool *pool;
@@ -84,7 +84,8 @@ static void on_alive(void *ud)
 }
 
 /* The fail-safe preset's raw values per lamp, or NULL when the mode is not a preset. */
-static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources, uint8_t *ret[2])
+static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources,
+			 uint8_t *ret[HL_FRAME_MAX_LAMPS])
 {
 	struct hl_preset_error perr;
 	struct hl_preset *p;
@@ -329,7 +330,7 @@ static void reload(struct live *lv)
 {
 	struct hl_config next;
 	struct hl_config_error err;
-	uint8_t *dims[2] = { NULL, NULL };
+	uint8_t *dims[HL_FRAME_MAX_LAMPS] = { NULL };
 
 	hl_config_defaults(&next);
 	if (lv->args->config_path && hl_config_load(&next, lv->args->config_path, &err) < 0) {
@@ -360,8 +361,8 @@ static int setup(struct live *lv)
 	struct hl_asm_error aerr;
 	struct hl_lid_error lerr;
 	char *names[HL_ASM_MAX_LAMPS], lamps[HL_CONFIG_NAME], err[512];
-	const char *lid_paths[2] = { lv->cfg.lid_left, lv->cfg.lid_right };
-	uint8_t *dims[2] = { NULL, NULL };
+	const char *lid_paths[HL_FRAME_MAX_LAMPS] = { lv->cfg.lid_left, lv->cfg.lid_right };
+	uint8_t *dims[HL_FRAME_MAX_LAMPS] = { NULL };
 	int n = 0, rc, n_src = 0;
 
 	rc = hl_dbc_parse_file(lv->cfg.dbc, &lv->db, &derr);
@@ -373,7 +374,7 @@ static int setup(struct live *lv)
 	for (char *save = NULL, *t = strtok_r(lamps, ",", &save); t && n < HL_ASM_MAX_LAMPS;
 	     t = strtok_r(NULL, ",", &save))
 		names[n++] = t;
-	if (n < 1 || n > 2) {
+	if (n < 1 || n > HL_FRAME_MAX_LAMPS) {
 		log_msg("can.lamps '%s': the renderer takes one or two lamps", lv->cfg.lamps);
 		return -EINVAL;
 	}

@@ -24,7 +24,7 @@
 
 struct hl_pipeline {
 	struct hl_config cfg;
-	struct hl_lid *lids[2];
+	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
 	int n_lamps;
 	struct hl_ring *ring;
 	int wake_fd;
@@ -34,7 +34,7 @@ struct hl_pipeline {
 	/* live settings, changed by reload under the lock */
 	pthread_mutex_t lock;
 	enum hl_failsafe failsafe;
-	uint8_t *failsafe_dims[2];
+	uint8_t *failsafe_dims[HL_FRAME_MAX_LAMPS];
 	double exposure_ev;
 	struct hl_pipeline_counts c;
 
@@ -49,7 +49,7 @@ struct hl_pipeline {
 	enum hl_view_kind view;
 	struct hl_view_lux_opts lux_opts;
 	char describe[256];
-	uint64_t last_seq[2]; /* each lamp's cycle in the last frame rendered */
+	uint64_t last_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's cycle in the last frame rendered */
 
 	pthread_t thread;
 	bool started;
@@ -60,10 +60,10 @@ struct hl_pipeline {
 	char start_err[512];
 };
 
-int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
-		    const uint8_t *const failsafe_dims[2], struct hl_ring *ring, int wake_fd,
-		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
-		    struct hl_pipeline **ret)
+int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
+		    int n_lamps, const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS],
+		    struct hl_ring *ring, int wake_fd, struct hl_frame_pool *pool,
+		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret)
 {
 	struct hl_pipeline *p = calloc(1, sizeof(*p));
 	int rc;
@@ -125,7 +125,7 @@ void hl_pipeline_free(struct hl_pipeline *p)
 }
 
 void hl_pipeline_set_failsafe(struct hl_pipeline *p, enum hl_failsafe mode,
-			      const uint8_t *const dims[2])
+			      const uint8_t *const dims[HL_FRAME_MAX_LAMPS])
 {
 	pthread_mutex_lock(&p->lock);
 	p->failsafe = mode;
@@ -175,7 +175,7 @@ static int setup(struct hl_pipeline *p)
 {
 	struct hl_egl_error eerr = { "" };
 	struct hl_renderer_config rc_cfg = { 0 };
-	struct hl_lamp_pose poses[2];
+	struct hl_lamp_pose poses[HL_FRAME_MAX_LAMPS];
 	int kind, rc;
 
 	rc = hl_egl_new(&p->egl, &eerr);
@@ -268,7 +268,7 @@ static void record_time(struct hl_pipeline *p, double ms, bool published, uint32
 		p->c.frames++;
 	else
 		p->c.not_published++;
-	for (int l = 0; l < 2; l++)
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++)
 		if (flags & HL_FRAME_FAILSAFE(l))
 			p->c.failsafe_frames[l]++;
 	pthread_mutex_unlock(&p->lock);

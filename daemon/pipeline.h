@@ -28,14 +28,14 @@ struct hl_pipeline_hooks {
 struct hl_pipeline_counts {
 	uint64_t frames; /* rendered and published */
 	uint64_t not_published; /* rendered, but every pool frame was held by readers */
-	uint64_t failsafe_frames[2]; /* frames with the lamp's fail-safe active */
+	uint64_t failsafe_frames[HL_FRAME_MAX_LAMPS]; /* frames with the lamp's fail-safe active */
 	/*
 	 * Complete cycles of the lamp that no rendered frame showed: the lamp's cycle_seq moved on
 	 * by more than one between two frames (the render thread was busy for two of its cycles),
 	 * or cycles came before the first frame. Superseded ring snapshots are not lost cycles as
 	 * long as the newer snapshot carries each lamp's next cycle: this counts what was lost.
 	 */
-	uint64_t cycles_not_rendered[2];
+	uint64_t cycles_not_rendered[HL_FRAME_MAX_LAMPS];
 	double render_ms_last, render_ms_max;
 	/* render time histogram, ms: <= 1, 2, 5, 10, 20, 50, 100, +inf */
 	uint64_t render_ms_buckets[8];
@@ -48,10 +48,10 @@ struct hl_pipeline;
  * failsafe_dims: per lamp the preset's raw values (n_sources each) for HL_FAILSAFE_PRESET, else
  * NULL. lids must outlive the pipeline. 0, -errno.
  */
-int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
-		    const uint8_t *const failsafe_dims[2], struct hl_ring *ring, int wake_fd,
-		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
-		    struct hl_pipeline **ret);
+int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
+		    int n_lamps, const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS],
+		    struct hl_ring *ring, int wake_fd, struct hl_frame_pool *pool,
+		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret);
 void hl_pipeline_free(struct hl_pipeline *p);
 
 /*
@@ -68,7 +68,7 @@ const struct hl_gbuffer *hl_pipeline_gbuffer(const struct hl_pipeline *p);
 const struct hl_camera *hl_pipeline_camera(const struct hl_pipeline *p);
 /* Live settings a reload may change. */
 void hl_pipeline_set_failsafe(struct hl_pipeline *p, enum hl_failsafe mode,
-			      const uint8_t *const dims[2]);
+			      const uint8_t *const dims[HL_FRAME_MAX_LAMPS]);
 void hl_pipeline_set_exposure(struct hl_pipeline *p, double ev);
 void hl_pipeline_counts(struct hl_pipeline *p, struct hl_pipeline_counts *ret);
 

@@ -25,7 +25,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#define HL_RING_MAX_LAMPS 8
+#include "can/assembler.h"
+
+/* a snapshot carries every lamp the assembler decodes */
+#define HL_RING_MAX_LAMPS HL_ASM_MAX_LAMPS
 
 /* Per-lamp status bits of a snapshot. */
 #define HL_LAMP_VALID 0x1u /* at least one complete cycle seen */
