@@ -15,7 +15,7 @@
 
 #include "daemon/clock.h"
 #include "render/egl.h"
-#include "render/frame_exr.h"
+#include "render/pixel.h"
 #include "render/renderer.h"
 #include "render/view.h"
 #include "render/workers.h"
@@ -347,7 +347,7 @@ static void render(struct hl_pipeline *p)
 
 			hl_view_hdr(p->gb, f->lux, p->rgba);
 			for (size_t i = 0; i < n; i++)
-				h[i] = hl_half_from_float(p->rgba[i]);
+				h[i] = hl_pixel_half_from_float(p->rgba[i]);
 			break;
 		}
 		default: /* display: done with the frame */
