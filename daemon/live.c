@@ -83,6 +83,24 @@ static void on_alive(void *ud)
 	}
 }
 
+/* Per lamp, each source's DBC scale (ret[l] malloc'd, n_sources entries; 1, 0 past the lamp's). */
+static int source_scales(const struct hl_assembler *a, int n_lamps, int n_sources,
+			 struct hl_source_scale *ret[HL_FRAME_MAX_LAMPS])
+{
+	for (int l = 0; l < n_lamps; l++) {
+		ret[l] = malloc(sizeof(*ret[l]) * n_sources);
+		if (!ret[l])
+			return -ENOMEM;
+		for (int k = 0; k < n_sources; k++) {
+			const struct hl_dbc_signal *s = hl_assembler_source_signal(a, l, k);
+
+			ret[l][k] = s ? (struct hl_source_scale){ s->factor, s->offset } :
+					(struct hl_source_scale){ 1.0, 0.0 };
+		}
+	}
+	return 0;
+}
+
 /* The fail-safe preset's raw values per lamp, or NULL when the mode is not a preset. */
 static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources,
 			 uint8_t *ret[HL_FRAME_MAX_LAMPS])
@@ -363,6 +381,7 @@ static int setup(struct live *lv)
 	char *names[HL_ASM_MAX_LAMPS], lamps[HL_CONFIG_NAME], err[512];
 	const char *lid_paths[HL_FRAME_MAX_LAMPS] = { lv->cfg.lid_left, lv->cfg.lid_right };
 	uint8_t *dims[HL_FRAME_MAX_LAMPS] = { NULL };
+	struct hl_source_scale *scales[HL_FRAME_MAX_LAMPS] = { NULL };
 	int n = 0, rc, n_src = 0;
 
 	rc = hl_dbc_parse_file(lv->cfg.dbc, &lv->db, &derr);
@@ -409,7 +428,9 @@ static int setup(struct live *lv)
 	rc = load_failsafe(&lv->cfg, n, n_src, dims);
 	if (rc < 0)
 		return rc;
-	rc = hl_ring_new(lv->args->ring_slots, n, n_src, &lv->ring);
+	rc = source_scales(lv->a, n, n_src, scales);
+	if (rc == 0)
+		rc = hl_ring_new(lv->args->ring_slots, n, n_src, &lv->ring);
 	if (rc == 0) {
 		const struct hl_lid_grid *g = hl_lid_grid(lv->lids[0]);
 		struct hl_frame_shape shape = {
@@ -443,13 +464,17 @@ static int setup(struct live *lv)
 						   .published = on_published,
 						   .alive = on_alive };
 
-		rc = hl_pipeline_new(&lv->cfg, lv->lids, n, (const uint8_t *const *)dims, lv->ring,
+		rc = hl_pipeline_new(&lv->cfg, lv->lids, n,
+				     (const struct hl_source_scale *const *)scales,
+				     (const uint8_t *const *)dims, lv->ring,
 				     hl_can_input_wake_fd(lv->in), lv->pool, &hooks, &lv->pipe);
 		if (rc < 0)
 			log_msg("render.view '%s': expected display, lux or hdr", lv->cfg.view);
 	}
-	free(dims[0]);
-	free(dims[1]);
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
+		free(dims[l]);
+		free(scales[l]);
+	}
 	if (rc < 0)
 		return rc;
 	if (lv->cfg.gpio_chip[0]) {

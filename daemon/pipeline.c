@@ -25,6 +25,7 @@
 struct hl_pipeline {
 	struct hl_config cfg;
 	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
+	struct hl_source_scale *scales[HL_FRAME_MAX_LAMPS]; /* n_sources each */
 	int n_lamps;
 	struct hl_ring *ring;
 	int wake_fd;
@@ -61,9 +62,10 @@ struct hl_pipeline {
 };
 
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
-		    int n_lamps, const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS],
-		    struct hl_ring *ring, int wake_fd, struct hl_frame_pool *pool,
-		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret)
+		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
+		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
+		    int wake_fd, struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
+		    struct hl_pipeline **ret)
 {
 	struct hl_pipeline *p = calloc(1, sizeof(*p));
 	int rc;
@@ -86,6 +88,14 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 	rc = hl_snapshot_new(ring, &p->snap);
 	if (rc < 0)
 		goto err;
+	for (int l = 0; l < n_lamps; l++) {
+		p->scales[l] = malloc(sizeof(*p->scales[l]) * p->snap->n_sources);
+		if (!p->scales[l]) {
+			rc = -ENOMEM;
+			goto err;
+		}
+		memcpy(p->scales[l], scales[l], sizeof(*p->scales[l]) * p->snap->n_sources);
+	}
 	p->cur = calloc(p->snap->n_sources, sizeof(float));
 	p->lux = calloc((size_t)cfg->width * cfg->height, sizeof(float));
 	p->rgba = calloc((size_t)cfg->width * cfg->height * 4, sizeof(float));
@@ -117,8 +127,10 @@ void hl_pipeline_free(struct hl_pipeline *p)
 	free(p->cur);
 	free(p->lux);
 	free(p->rgba);
-	free(p->failsafe_dims[0]);
-	free(p->failsafe_dims[1]);
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
+		free(p->scales[l]);
+		free(p->failsafe_dims[l]);
+	}
 	pthread_cond_destroy(&p->up);
 	pthread_mutex_destroy(&p->lock);
 	free(p);
@@ -287,6 +299,14 @@ static void display_band(void *userdata, const float *lux, size_t first, size_t 
 	hl_view_display_range(j->gb, lux, j->exposure_ev, first, count, j->rgb);
 }
 
+/* The raw value a signal of this scale carries for relative current i (nearest step). */
+static uint8_t raw_of(const struct hl_source_scale *s, float i)
+{
+	const long r = lround(((double)i - s->offset) / s->factor);
+
+	return r < 0 ? 0 : r > UINT8_MAX ? UINT8_MAX : (uint8_t)r;
+}
+
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
@@ -308,15 +328,21 @@ static void render(struct hl_pipeline *p)
 				   !(s->lamps[l].status & HL_LAMP_VALID);
 
 		for (int k = 0; k < s->n_sources; k++) {
+			const struct hl_source_scale *sc = &p->scales[l][k];
 			float v = in[k];
+			uint8_t raw;
 
-			if (stale && mode == HL_FAILSAFE_DARK)
-				v = 0.0f;
-			else if (stale && mode == HL_FAILSAFE_PRESET && p->failsafe_dims[l])
-				v = (float)p->failsafe_dims[l][k] / 63.0f;
+			if (stale && mode == HL_FAILSAFE_PRESET && p->failsafe_dims[l]) {
+				raw = p->failsafe_dims[l][k];
+				v = (float)(raw * sc->factor + sc->offset);
+			} else {
+				if (stale && mode == HL_FAILSAFE_DARK)
+					v = 0.0f;
+				raw = raw_of(sc, v);
+			}
 			p->cur[k] = v;
 			if (f)
-				f->dims[l][k] = (uint8_t)lroundf(v * 63.0f);
+				f->dims[l][k] = raw;
 		}
 		if (stale)
 			flags |= HL_FRAME_STALE(l) | HL_FRAME_FAILSAFE(l);

@@ -42,16 +42,27 @@ struct hl_pipeline_counts {
 	double render_ms_sum;
 };
 
+/*
+ * How a source's relative current and the raw value its DBC signal carries map onto each other:
+ * i = raw * factor + offset (the signal's factor and offset), so the frame carries the raw
+ * values the ECU sent, whatever the database's scale.
+ */
+struct hl_source_scale {
+	double factor, offset;
+};
+
 struct hl_pipeline;
 
 /*
- * failsafe_dims: per lamp the preset's raw values (n_sources each) for HL_FAILSAFE_PRESET, else
- * NULL. lids must outlive the pipeline. 0, -errno.
+ * scales: per lamp, n_sources entries (the ring's), copied. failsafe_dims: per lamp the preset's
+ * raw values (n_sources each) for HL_FAILSAFE_PRESET, else NULL. lids must outlive the
+ * pipeline. 0, -errno.
  */
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
-		    int n_lamps, const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS],
-		    struct hl_ring *ring, int wake_fd, struct hl_frame_pool *pool,
-		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret);
+		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
+		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
+		    int wake_fd, struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
+		    struct hl_pipeline **ret);
 void hl_pipeline_free(struct hl_pipeline *p);
 
 /*
