@@ -44,7 +44,7 @@ int hl_can_input_start(struct hl_can_input *in);
 /* Asks the thread to stop and joins it. */
 void hl_can_input_stop(struct hl_can_input *in);
 
-/* An eventfd that becomes readable after every push (read it to reset). */
+/* The ring's eventfd (hl_ring_wake_fd), readable after every push. */
 int hl_can_input_wake_fd(const struct hl_can_input *in);
 
 /* A consistent copy of the input's counters for other threads (updated on every push and at

@@ -59,16 +59,11 @@ static void log_msg(const char *fmt, ...)
 	va_end(ap);
 }
 
-/* Render thread hook: outputs learn of the new frame at once. */
-static void on_published(void *ud, const struct hl_frame *f)
+/* The pool's subscriber: the strobe toggles with every published frame. */
+static void strobe(void *ud, const struct hl_frame *f)
 {
-	struct live *lv = ud;
-
 	(void)f;
-	if (lv->stream)
-		hl_stream_wake(lv->stream);
-	if (lv->gpio)
-		hl_gpio_strobe(lv->gpio); /* counted in the gpio's counters, errors too */
+	hl_gpio_strobe(ud); /* counted in the gpio's counters, errors too */
 }
 
 /* Render thread hook, every loop turn: the watchdog proves the render loop runs. */
@@ -460,14 +455,12 @@ static int setup(struct live *lv)
 			log_msg("'%s': %s", icfg.iface ? icfg.iface : icfg.replay, strerror(-rc));
 	}
 	if (rc == 0) {
-		struct hl_pipeline_hooks hooks = { .userdata = lv,
-						   .published = on_published,
-						   .alive = on_alive };
+		struct hl_pipeline_hooks hooks = { .userdata = lv, .alive = on_alive };
 
 		rc = hl_pipeline_new(&lv->cfg, lv->lids, n,
 				     (const struct hl_source_scale *const *)scales,
-				     (const uint8_t *const *)dims, lv->ring,
-				     hl_can_input_wake_fd(lv->in), lv->pool, &hooks, &lv->pipe);
+				     (const uint8_t *const *)dims, lv->ring, lv->pool, &hooks,
+				     &lv->pipe);
 		if (rc < 0)
 			log_msg("render.view '%s': expected display, lux or hdr", lv->cfg.view);
 	}
@@ -487,6 +480,9 @@ static int setup(struct live *lv)
 			log_msg("gpio: %s", gerr.msg);
 			return rc;
 		}
+		rc = hl_frame_pool_subscribe(lv->pool, strobe, lv->gpio);
+		if (rc < 0)
+			return rc;
 	}
 	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
 		lv->watchdog_us = 0;
@@ -546,8 +542,10 @@ static void teardown(struct live *lv)
 	if (lv->pool)
 		hl_frame_pool_close(lv->pool);
 	hl_http_free(lv->http);
+	hl_pipeline_free(lv->pipe); /* stopped first: nothing publishes any more */
 	hl_stream_free(lv->stream);
-	hl_pipeline_free(lv->pipe);
+	if (lv->gpio)
+		hl_frame_pool_unsubscribe(lv->pool, strobe, lv->gpio);
 	hl_gpio_free(lv->gpio);
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);

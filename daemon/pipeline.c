@@ -64,7 +64,7 @@ struct hl_pipeline {
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
 		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
 		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
-		    int wake_fd, struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
+		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
 		    struct hl_pipeline **ret)
 {
 	struct hl_pipeline *p = calloc(1, sizeof(*p));
@@ -75,7 +75,7 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 	p->cfg = *cfg;
 	p->n_lamps = n_lamps;
 	p->ring = ring;
-	p->wake_fd = wake_fd;
+	p->wake_fd = hl_ring_wake_fd(ring);
 	p->pool = pool;
 	if (hooks)
 		p->hooks = *hooks;
@@ -394,9 +394,7 @@ static void render(struct hl_pipeline *p)
 		f->hdr.t_render_start_ns = t0;
 		f->hdr.t_render_done_ns = hl_clock_monotonic_ns();
 		f->hdr.t_sent_ns = 0;
-		hl_frame_pool_publish(p->pool, f);
-		if (p->hooks.published)
-			p->hooks.published(p->hooks.userdata, f);
+		hl_frame_pool_publish(p->pool, f); /* and the pool wakes its subscribers */
 	}
 	record_time(p, (double)(hl_clock_monotonic_ns() - t0) / 1e6, f != NULL, flags);
 }

@@ -6,7 +6,8 @@
  * to the configured view in a frame from the pool and publishes it with its latency stamps.
  *
  * Thread-safety: start/stop/counts from the main thread; the rest runs on the render thread.
- * The callbacks run on the render thread and must not block.
+ * The hook runs on the render thread and must not block. Published frames reach the outputs
+ * through the pool's subscribers; the ring's eventfd wakes the thread.
  */
 #ifndef HL_DAEMON_PIPELINE_H
 #define HL_DAEMON_PIPELINE_H
@@ -21,7 +22,6 @@
 
 struct hl_pipeline_hooks {
 	void *userdata;
-	void (*published)(void *userdata, const struct hl_frame *f); /* after every publish */
 	void (*alive)(void *userdata); /* once per loop turn: the watchdog */
 };
 
@@ -61,7 +61,7 @@ struct hl_pipeline;
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
 		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
 		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
-		    int wake_fd, struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
+		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
 		    struct hl_pipeline **ret);
 void hl_pipeline_free(struct hl_pipeline *p);
 
