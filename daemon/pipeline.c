@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "daemon/pipeline.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <malloc.h>
 #include <math.h>
@@ -21,6 +22,9 @@
 #include "render/workers.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
+
+/* The render time histogram's bucket bounds, ms (le; +Inf implied). */
+static const double render_ms_bounds[] = { 1, 2, 5, 10, 20, 50, 100 };
 
 struct hl_pipeline {
 	struct hl_config cfg;
@@ -109,6 +113,9 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 		goto err;
 	}
 	p->view = rc;
+	rc = hl_prom_histogram_init(&p->c.render_ms, render_ms_bounds,
+				    (int)(sizeof(render_ms_bounds) / sizeof(render_ms_bounds[0])));
+	assert(rc == 0);
 	hl_view_lux_defaults(&p->lux_opts);
 	hl_pipeline_set_failsafe(p, cfg->failsafe, failsafe_dims);
 	*ret = p;
@@ -265,17 +272,11 @@ static void teardown(struct hl_pipeline *p)
 
 static void record_time(struct hl_pipeline *p, double ms, bool published, uint32_t flags)
 {
-	static const double edges[7] = { 1, 2, 5, 10, 20, 50, 100 };
-	int b = 0;
-
-	while (b < 7 && ms > edges[b])
-		b++;
 	pthread_mutex_lock(&p->lock);
 	p->c.render_ms_last = ms;
 	if (ms > p->c.render_ms_max)
 		p->c.render_ms_max = ms;
-	p->c.render_ms_buckets[b]++;
-	p->c.render_ms_sum += ms;
+	hl_prom_histogram_observe(&p->c.render_ms, ms);
 	if (published)
 		p->c.frames++;
 	else

@@ -16,6 +16,7 @@
 
 #include "daemon/config.h"
 #include "daemon/frame_pool.h"
+#include "daemon/prom.h"
 #include "daemon/ring.h"
 #include "lamp/lid.h"
 #include "render/scene.h"
@@ -37,9 +38,7 @@ struct hl_pipeline_counts {
 	 */
 	uint64_t cycles_not_rendered[HL_FRAME_MAX_LAMPS];
 	double render_ms_last, render_ms_max;
-	/* render time histogram, ms: <= 1, 2, 5, 10, 20, 50, 100, +inf */
-	uint64_t render_ms_buckets[8];
-	double render_ms_sum;
+	struct hl_prom_histogram render_ms; /* render time, ms (bounds: hl_pipeline_new) */
 };
 
 /*
