@@ -168,7 +168,7 @@ static void *producer(void *arg)
 }
 
 /*
- * The producer pushes as fast as it can (>= 100 kHz); the consumer reads with random stalls,
+ * The producer pushes as fast as it can; the consumer reads with random stalls,
  * mixing newest-first and in-order reading, and checks every snapshot it gets is whole and
  * newer than the last. At the end the counts add up exactly. Run under ThreadSanitizer in CI.
  */
@@ -227,7 +227,6 @@ static void ring_stress_no_torn_snapshot_and_counts_add_up(void **state)
 	assert_true(c.pushed == c.consumed + c.superseded + c.dropped);
 	assert_true(last == st.n_push - 1);
 	assert_true(c.superseded > 0 && c.dropped > 0); /* both paths were exercised */
-	assert_true(st.push_hz >= 100e3);
 	hl_snapshot_free(out);
 	hl_ring_free(st.ring);
 }
