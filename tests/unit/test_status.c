@@ -7,7 +7,6 @@
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -17,7 +16,8 @@
 
 #include "daemon/status.h"
 
-#define RELOADS 2000
+#define RELOADS 20000
+#define READS 2000
 
 static const char *const names[2] = { "left", "right" };
 
@@ -120,22 +120,25 @@ static void status_metrics_are_prometheus_text(void **state)
 
 struct race {
 	struct hl_status *st;
-	atomic_bool done;
+	pthread_barrier_t go;
 };
 
-/* The main thread's part: SIGHUP reloads, alternating the fail-safe mode, and captures. */
+/* The main thread's part: SIGHUP reloads, alternating the fail-safe mode. */
 static void *reloader(void *arg)
 {
 	struct race *r = arg;
 
-	for (int i = 1; i <= RELOADS; i++) {
+	pthread_barrier_wait(&r->go);
+	for (int i = 1; i <= RELOADS; i++)
 		hl_status_reloaded(r->st, i % 2 ? HL_FAILSAFE_DARK : HL_FAILSAFE_HOLD);
-		hl_status_captured(r->st, true);
-	}
-	atomic_store(&r->done, true);
 	return NULL;
 }
 
+/*
+ * Both sides start together and neither waits for the other: without the status lock
+ * ThreadSanitizer reports the reload's writes racing the reads (as it did for live.c's
+ * unlocked reloads and cfg.failsafe).
+ */
 static void status_reload_races_status_reads(void **state)
 {
 	struct hl_ring *ring;
@@ -145,25 +148,25 @@ static void status_reload_races_status_reads(void **state)
 	pthread_t t;
 
 	(void)state;
-	atomic_init(&r.done, false);
+	assert_int_equal(pthread_barrier_init(&r.go, NULL, 2), 0);
 	assert_int_equal(pthread_create(&t, NULL, reloader, &r), 0);
+	pthread_barrier_wait(&r.go);
 	/* the HTTP threads' part: what they see is always a state the main thread made */
-	while (!atomic_load(&r.done)) {
+	for (int i = 0; i < READS; i++) {
 		uint64_t reloads;
 
 		assert_true(hl_status_json(r.st, buf, sizeof(buf)) > 0);
 		reloads = number_after(buf, "\"reloads\":");
 		assert_true(reloads >= last && reloads <= RELOADS);
-		assert_true(number_after(buf, "\"captures\":") >= reloads);
 		assert_non_null(strstr(buf, reloads % 2 ? "\"failsafe_mode\":\"dark\"" :
 							  "\"failsafe_mode\":\"hold\""));
 		assert_true(hl_status_metrics(r.st, buf, sizeof(buf)) > 0);
 		last = reloads;
 	}
 	pthread_join(t, NULL);
+	pthread_barrier_destroy(&r.go);
 	assert_true(hl_status_json(r.st, buf, sizeof(buf)) > 0);
 	assert_int_equal(number_after(buf, "\"reloads\":"), RELOADS);
-	assert_int_equal(number_after(buf, "\"captures\":"), RELOADS);
 	assert_non_null(strstr(buf, "\"failsafe_mode\":\"hold\""));
 	hl_status_free(r.st);
 	hl_ring_free(ring);
