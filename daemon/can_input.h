@@ -9,8 +9,9 @@
  * Timeouts run on CLOCK_MONOTONIC for a live bus and on the log's own timeline for a replay,
  * so a replay reports the same cycles and the same stale times at any speed.
  *
- * Thread-safety: hl_can_input_start/stop from the main thread; everything else runs on the
- * CAN thread. hl_can_input_report may be called after stop (or from the CAN thread).
+ * Thread-safety: hl_can_input_start/stop from the main thread; hl_can_input_status from any
+ * thread (a locked copy); everything else runs on the CAN thread. hl_can_input_report may be
+ * called after stop (or from the CAN thread).
  */
 #ifndef HL_DAEMON_CAN_INPUT_H
 #define HL_DAEMON_CAN_INPUT_H

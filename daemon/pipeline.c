@@ -32,7 +32,6 @@ struct hl_pipeline {
 	struct hl_source_scale *scales[HL_FRAME_MAX_LAMPS]; /* n_sources each */
 	int n_lamps;
 	struct hl_ring *ring;
-	int wake_fd;
 	struct hl_frame_pool *pool;
 	struct hl_pipeline_hooks hooks;
 
@@ -79,7 +78,6 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 	p->cfg = *cfg;
 	p->n_lamps = n_lamps;
 	p->ring = ring;
-	p->wake_fd = hl_ring_wake_fd(ring);
 	p->pool = pool;
 	if (hooks)
 		p->hooks = *hooks;
@@ -428,15 +426,13 @@ static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
 
 	while (other_lamp_due(p) && !atomic_load(&p->stop)) {
 		const int64_t left = until - hl_clock_monotonic_ns();
-		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
+		struct pollfd pfd = { .fd = hl_ring_wake_fd(p->ring), .events = POLLIN };
 		struct timespec ts = { left / 1000000000, left % 1000000000 };
-		uint64_t wakes;
 
 		if (left <= 0)
 			break;
-		if (ppoll(&pfd, 1, &ts, NULL) > 0 && read(p->wake_fd, &wakes, sizeof(wakes)) < 0) {
-			/* reset lost: the next ppoll returns at once */
-		}
+		if (ppoll(&pfd, 1, &ts, NULL) > 0)
+			hl_ring_wait(p->ring, 0); /* reset */
 		hl_ring_take_newest(p->ring, p->snap);
 	}
 }
@@ -459,9 +455,7 @@ static void *thread_main(void *arg)
 		return NULL;
 	}
 	while (!atomic_load(&p->stop)) {
-		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
 		int timeout_ms = IDLE_WAKE_MS;
-		uint64_t wakes;
 		bool fresh;
 
 		if (p->hooks.alive)
@@ -471,9 +465,7 @@ static void *thread_main(void *arg)
 
 			timeout_ms = next_ns > now ? (int)((next_ns - now) / 1000000) : 0;
 		}
-		if (poll(&pfd, 1, timeout_ms) > 0 && read(p->wake_fd, &wakes, sizeof(wakes)) < 0) {
-			/* reset lost: the next poll returns at once */
-		}
+		hl_ring_wait(p->ring, timeout_ms);
 		/* the newest complete state: what came in meanwhile is superseded (counted) */
 		fresh = hl_ring_take_newest(p->ring, p->snap);
 		have |= fresh;

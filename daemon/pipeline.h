@@ -5,9 +5,11 @@
  * applies each stale lamp's fail-safe (hold, dark or a preset), renders the scene, converts it
  * to the configured view in a frame from the pool and publishes it with its latency stamps.
  *
- * Thread-safety: start/stop/counts from the main thread; the rest runs on the render thread.
- * The hook runs on the render thread and must not block. Published frames reach the outputs
- * through the pool's subscribers; the ring's eventfd wakes the thread.
+ * Thread-safety: new/start/stop/free and the live settings (set_failsafe, set_exposure) from
+ * the main thread; counts (locked) and describe, gbuffer, camera (fixed once started) from any
+ * thread; the rest runs on the render thread. The hook runs on the render thread and must not
+ * block. Published frames reach the outputs through the pool's subscribers; the ring's
+ * eventfd wakes the thread.
  */
 #ifndef HL_DAEMON_PIPELINE_H
 #define HL_DAEMON_PIPELINE_H
