@@ -31,6 +31,8 @@ struct hl_can_input {
 	struct hl_input_status status;
 };
 
+static void update_status(struct hl_can_input *in);
+
 int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler *a,
 		     struct hl_ring *ring, struct hl_can_input **ret)
 {
@@ -59,6 +61,7 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	}
 	in->snap->status = cfg->replay ? HL_INPUT_LINK_UP : 0;
 	in->snap->link_errno = cfg->replay ? 0 : ENETDOWN;
+	update_status(in); /* readers see the initial state before the thread runs */
 	*ret = in;
 	return 0;
 }

@@ -48,8 +48,8 @@ void hl_can_input_stop(struct hl_can_input *in);
 /* The ring's eventfd (hl_ring_wake_fd), readable after every push. */
 int hl_can_input_wake_fd(const struct hl_can_input *in);
 
-/* A consistent copy of the input's counters for other threads (updated on every push and at
- * least every 100 ms). */
+/* A consistent copy of the input's state and counters for other threads: the initial state
+ * from hl_can_input_new, then updated on every push and at least every 100 ms. */
 struct hl_input_status {
 	int n_lamps;
 	struct hl_lamp_counters lamps[HL_ASM_MAX_LAMPS];

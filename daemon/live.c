@@ -533,9 +533,12 @@ static int setup(struct live *lv)
 		if (rc < 0)
 			return rc;
 	} else {
-		/* what a replay starts with, so that the first link event is a change */
-		lv->seen.status = lv->cfg.replay[0] ? HL_INPUT_LINK_UP : 0;
-		lv->seen.link_errno = lv->cfg.replay[0] ? 0 : ENETDOWN;
+		struct hl_input_status st;
+
+		/* the input's initial state, so that the first link event is a change */
+		hl_can_input_status(lv->in, &st);
+		lv->seen.status = st.link_up ? HL_INPUT_LINK_UP : 0;
+		lv->seen.link_errno = st.link_errno;
 	}
 	rc = hl_can_input_start(lv->in);
 	if (rc < 0)
