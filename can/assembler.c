@@ -519,6 +519,23 @@ int hl_assembler_n_sources(const struct hl_assembler *a, int lamp)
 	return a->lamps[lamp].n_sources;
 }
 
+const struct hl_dbc_signal *hl_assembler_source_signal(const struct hl_assembler *a, int lamp,
+						       int source)
+{
+	if (lamp < 0 || lamp >= a->n_lamps || source < 0 || source >= a->lamps[lamp].n_sources)
+		return NULL;
+	for (int p = 0; p < a->n_plans; p++) {
+		const struct plan *pl = &a->plans[p];
+
+		if (pl->lamp != lamp)
+			continue;
+		for (int s = 0; s < pl->m->n_signals; s++)
+			if (pl->source_of[s] == source)
+				return &pl->m->signals[s];
+	}
+	return NULL;
+}
+
 unsigned hl_assembler_counter_max(const struct hl_assembler *a, int lamp)
 {
 	return a->lamps[lamp].counter_max;

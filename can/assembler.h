@@ -118,6 +118,12 @@ int hl_assembler_encode(const struct hl_assembler *a, int lamp, const float *i, 
 int hl_assembler_n_lamps(const struct hl_assembler *a);
 const char *hl_assembler_lamp_name(const struct hl_assembler *a, int lamp);
 int hl_assembler_n_sources(const struct hl_assembler *a, int lamp);
+/*
+ * The signal that carries source (0-based) of lamp: its factor and offset turn a cycle's value
+ * back into the raw bits the ECU sent. Owned by the database. NULL when out of range.
+ */
+const struct hl_dbc_signal *hl_assembler_source_signal(const struct hl_assembler *a, int lamp,
+						       int source);
 /* Largest alive counter value of the lamp's E2E profile (14 for P1, 255 for P5, 0 for none). */
 unsigned hl_assembler_counter_max(const struct hl_assembler *a, int lamp);
 /* The message IDs to receive (for kernel filters); returns the count, at most max. */

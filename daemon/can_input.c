@@ -8,7 +8,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/eventfd.h>
 #include <unistd.h>
 
 #include "can/candump_log.h"
@@ -25,13 +24,14 @@ struct hl_can_input {
 	struct hl_can_socket *sock;
 	struct hl_candump_log *log;
 	struct hl_snapshot *snap; /* the producer's view of every lamp, pushed on changes */
-	int wake_fd;
 	pthread_t thread;
 	bool started;
 	atomic_int stop;
 	pthread_mutex_t status_lock;
 	struct hl_input_status status;
 };
+
+static void update_status(struct hl_can_input *in);
 
 int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler *a,
 		     struct hl_ring *ring, struct hl_can_input **ret)
@@ -44,10 +44,9 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	in->cfg = *cfg;
 	in->a = a;
 	in->ring = ring;
-	in->wake_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
 	atomic_init(&in->stop, 0);
 	pthread_mutex_init(&in->status_lock, NULL);
-	rc = in->wake_fd < 0 ? -errno : hl_snapshot_new(ring, &in->snap);
+	rc = hl_snapshot_new(ring, &in->snap);
 	if (rc == 0 && cfg->replay)
 		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop, &in->log);
 	if (rc == 0 && cfg->iface) {
@@ -62,6 +61,7 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	}
 	in->snap->status = cfg->replay ? HL_INPUT_LINK_UP : 0;
 	in->snap->link_errno = cfg->replay ? 0 : ENETDOWN;
+	update_status(in); /* readers see the initial state before the thread runs */
 	*ret = in;
 	return 0;
 }
@@ -74,8 +74,6 @@ void hl_can_input_free(struct hl_can_input *in)
 	hl_can_socket_free(in->sock);
 	hl_candump_log_free(in->log);
 	hl_snapshot_free(in->snap);
-	if (in->wake_fd >= 0)
-		close(in->wake_fd);
 	pthread_mutex_destroy(&in->status_lock);
 	free(in);
 }
@@ -126,13 +124,11 @@ void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret)
 
 int hl_can_input_wake_fd(const struct hl_can_input *in)
 {
-	return in->wake_fd;
+	return hl_ring_wake_fd(in->ring);
 }
 
 static void push(struct hl_can_input *in, int64_t t_event_ns)
 {
-	const uint64_t one = 1;
-
 	/*
 	 * A fast replay waits for the consumer instead of overrunning the ring: a log can wait,
 	 * a bus cannot (a live input never gets here blocked).
@@ -143,12 +139,8 @@ static void push(struct hl_can_input *in, int64_t t_event_ns)
 
 	in->snap->t_push_ns = hl_monotonic_ns();
 	in->snap->t_event_ns = t_event_ns;
-	hl_ring_push(in->ring, in->snap);
+	hl_ring_push(in->ring, in->snap); /* and the ring wakes the consumer */
 	update_status(in);
-	/* wakes the consumer; an eventfd write never blocks while its counter is small */
-	if (write(in->wake_fd, &one, sizeof(one)) < 0) {
-		/* nothing to do: the consumer also wakes on its own every POLL_MAX_MS */
-	}
 }
 
 static void mark_stale(struct hl_can_input *in, uint32_t mask, int64_t t_ns)

@@ -9,8 +9,9 @@
  * Timeouts run on CLOCK_MONOTONIC for a live bus and on the log's own timeline for a replay,
  * so a replay reports the same cycles and the same stale times at any speed.
  *
- * Thread-safety: hl_can_input_start/stop from the main thread; everything else runs on the
- * CAN thread. hl_can_input_report may be called after stop (or from the CAN thread).
+ * Thread-safety: hl_can_input_start/stop from the main thread; hl_can_input_status from any
+ * thread (a locked copy); everything else runs on the CAN thread. hl_can_input_report may be
+ * called after stop (or from the CAN thread).
  */
 #ifndef HL_DAEMON_CAN_INPUT_H
 #define HL_DAEMON_CAN_INPUT_H
@@ -44,11 +45,11 @@ int hl_can_input_start(struct hl_can_input *in);
 /* Asks the thread to stop and joins it. */
 void hl_can_input_stop(struct hl_can_input *in);
 
-/* An eventfd that becomes readable after every push (read it to reset). */
+/* The ring's eventfd (hl_ring_wake_fd), readable after every push. */
 int hl_can_input_wake_fd(const struct hl_can_input *in);
 
-/* A consistent copy of the input's counters for other threads (updated on every push and at
- * least every 100 ms). */
+/* A consistent copy of the input's state and counters for other threads: the initial state
+ * from hl_can_input_new, then updated on every push and at least every 100 ms. */
 struct hl_input_status {
 	int n_lamps;
 	struct hl_lamp_counters lamps[HL_ASM_MAX_LAMPS];

@@ -24,8 +24,8 @@ struct hl_capture_scene {
 	const struct hl_gbuffer *gb;
 	const struct hl_camera *cam;
 	int n_lamps;
-	const char *lamp_names[2];
-	const struct hl_lid_grid *grids[2];
+	const char *lamp_names[HL_FRAME_MAX_LAMPS];
+	const struct hl_lid_grid *grids[HL_FRAME_MAX_LAMPS];
 };
 
 /* Writes f; ret_path gets the directory. 0 or -errno (err says what failed). */

@@ -8,9 +8,15 @@
 
 #include <stdint.h>
 
+#include "render/headlight.h"
+
 #define HL_FRAME_MAGIC 0x524c4448u /* "HDLR" read as little-endian bytes */
 #define HL_FRAME_VERSION 1
+/* lamps a frame shows: fixed by the 128-byte wire header, and what the renderer lights */
 #define HL_FRAME_MAX_LAMPS 2
+
+_Static_assert(HL_FRAME_MAX_LAMPS == HL_HEADLIGHT_MAX_LAMPS,
+	       "a frame carries exactly the lamps the renderer lights");
 
 enum hl_pixel_format {
 	HL_PIXEL_RGB8 = 1, /* display or lux false colour: 3 bytes per pixel */

@@ -24,6 +24,11 @@ struct hl_frame_pool {
 	uint64_t seq;
 	bool closed;
 	struct hl_frame_pool_counts c;
+	int n_subs;
+	struct {
+		hl_frame_pool_published_fn fn;
+		void *userdata;
+	} subs[HL_FRAME_POOL_MAX_SUBSCRIBERS];
 };
 
 static size_t pixel_bytes(const struct hl_frame_shape *s)
@@ -137,6 +142,37 @@ void hl_frame_pool_publish(struct hl_frame_pool *p, struct hl_frame *f)
 	p->newest = e;
 	p->c.published++;
 	pthread_cond_broadcast(&p->newer);
+	for (int i = 0; i < p->n_subs; i++)
+		p->subs[i].fn(p->subs[i].userdata, f);
+	pthread_mutex_unlock(&p->lock);
+}
+
+int hl_frame_pool_subscribe(struct hl_frame_pool *p, hl_frame_pool_published_fn fn, void *userdata)
+{
+	int rc = -ENOSPC;
+
+	pthread_mutex_lock(&p->lock);
+	if (p->n_subs < HL_FRAME_POOL_MAX_SUBSCRIBERS) {
+		p->subs[p->n_subs].fn = fn;
+		p->subs[p->n_subs].userdata = userdata;
+		p->n_subs++;
+		rc = 0;
+	}
+	pthread_mutex_unlock(&p->lock);
+	return rc;
+}
+
+void hl_frame_pool_unsubscribe(struct hl_frame_pool *p, hl_frame_pool_published_fn fn,
+			       void *userdata)
+{
+	pthread_mutex_lock(&p->lock);
+	for (int i = 0; i < p->n_subs; i++) {
+		if (p->subs[i].fn != fn || p->subs[i].userdata != userdata)
+			continue;
+		memmove(&p->subs[i], &p->subs[i + 1], sizeof(p->subs[0]) * (p->n_subs - i - 1));
+		p->n_subs--;
+		break;
+	}
 	pthread_mutex_unlock(&p->lock);
 }
 

@@ -6,8 +6,12 @@
  * release it when sent. A reader never blocks the renderer: if every frame is still held by
  * readers, the renderer's frame is not published and that is counted. Memory is fixed at start.
  *
+ * Subscribers (the stream, the GPIO strobe) learn of every published frame from
+ * hl_frame_pool_publish itself, on the renderer's thread; after unsubscribe returns, the
+ * subscriber is not called again.
+ *
  * Thread-safety: all functions from any thread; the lock is held for pointer and count updates
- * only, never while pixels are copied or sent.
+ * and the subscribers' calls only, never while pixels are copied or sent.
  */
 #ifndef HL_DAEMON_FRAME_POOL_H
 #define HL_DAEMON_FRAME_POOL_H
@@ -30,14 +34,28 @@ struct hl_frame_pool_counts {
 
 struct hl_frame_pool;
 
+#define HL_FRAME_POOL_MAX_SUBSCRIBERS 4
+
+/*
+ * Called on the renderer's thread after f was published, with the pool's lock held: it must not
+ * block nor call the pool (a wake-up: an eventfd write, a GPIO toggle). f is the newest frame.
+ */
+typedef void (*hl_frame_pool_published_fn)(void *userdata, const struct hl_frame *f);
+
 /* n_frames >= 2. 0, -EINVAL, -ENOMEM. */
 int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct hl_frame_pool **ret);
 void hl_frame_pool_free(struct hl_frame_pool *pool);
 
 /* Renderer: a frame nobody holds (not the newest), or NULL when all are held (counted). */
 struct hl_frame *hl_frame_pool_acquire(struct hl_frame_pool *pool);
-/* Renderer: makes f the newest (sets hdr.seq) and wakes waiting readers. */
+/* Renderer: makes f the newest (sets hdr.seq), wakes waiting readers, calls the subscribers. */
 void hl_frame_pool_publish(struct hl_frame_pool *pool, struct hl_frame *f);
+/* Adds a subscriber, called after every publish. 0, -ENOSPC. */
+int hl_frame_pool_subscribe(struct hl_frame_pool *pool, hl_frame_pool_published_fn fn,
+			    void *userdata);
+/* Removes the subscriber with this fn and userdata (none: nothing happens). */
+void hl_frame_pool_unsubscribe(struct hl_frame_pool *pool, hl_frame_pool_published_fn fn,
+			       void *userdata);
 /* Renderer: gives back an acquired frame without publishing it. */
 void hl_frame_pool_discard(struct hl_frame_pool *pool, struct hl_frame *f);
 

@@ -1,34 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * hdlampd: the headlamp HIL daemon. This build runs the decode-only pipeline (the renderer
- * joins in a later issue): CAN thread -> ring -> this thread, which prints one JSON line per
- * complete lamp cycle and one per status change, and a summary of every counter at exit.
+ * hdlampd: the headlamp HIL daemon. This file reads the options and the configuration;
+ * daemon/live.c wires and runs the daemon: rendering and serving frames, or with --no-render
+ * decoding only and printing JSON lines.
  */
 #include <errno.h>
 #include <getopt.h>
-#include <inttypes.h>
-#include <poll.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
-#include "can/candump_log.h"
-#include "can/socket.h"
-#include "daemon/can_input.h"
+#include "can/assembler.h"
 #include "daemon/config.h"
 #include "daemon/live.h"
-
-#define MAX_LAMPS HL_ASM_MAX_LAMPS
-
-static volatile sig_atomic_t stop_requested;
-
-static void on_signal(int sig)
-{
-	(void)sig;
-	stop_requested = 1;
-}
 
 #define MAX_OVERRIDES 128
 
@@ -37,7 +21,7 @@ struct options {
 	const char *config_path;
 	char *overrides[MAX_OVERRIDES]; /* SECTION.KEY=VALUE, in order; re-applied on reload */
 	int n_overrides;
-	char *lamp_names[MAX_LAMPS];
+	char *lamp_names[HL_ASM_MAX_LAMPS];
 	int n_lamps;
 	char lamps_buf[HL_CONFIG_NAME];
 	unsigned ring_slots;
@@ -49,7 +33,7 @@ static void usage(FILE *f)
 	fprintf(f,
 		"usage: hdlampd [--config FILE] [--set SECTION.KEY=VALUE ...] [options]\n"
 		"\n"
-		"  --config FILE      INI configuration (README lists every key; --print-config shows\n"
+		"  --config FILE      INI configuration (hdlampd.conf(5) lists every key; --print-config shows\n"
 		"                     them with their values)\n"
 		"  --set S.K=V        override one key (e.g. --set render.view=lux)\n"
 		"  --can IFACE        = can.interface: a SocketCAN interface (CAN or CAN FD); waited\n"
@@ -197,8 +181,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 	snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
 	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save); tok;
 	     tok = strtok_r(NULL, ",", &save)) {
-		if (o->n_lamps == MAX_LAMPS) {
-			fprintf(stderr, "hdlampd: can.lamps: at most %d lamps\n", MAX_LAMPS);
+		if (o->n_lamps == HL_ASM_MAX_LAMPS) {
+			fprintf(stderr, "hdlampd: can.lamps: at most %d lamps\n", HL_ASM_MAX_LAMPS);
 			return -EINVAL;
 		}
 		o->lamp_names[o->n_lamps++] = tok;
@@ -208,190 +192,6 @@ static int parse_options(int argc, char **argv, struct options *o)
 		return -EINVAL;
 	}
 	return 0;
-}
-
-/* What the output thread last saw, to report changes. */
-struct seen {
-	uint64_t cycle_seq[MAX_LAMPS];
-	uint32_t lamp_status[MAX_LAMPS];
-	uint32_t status, bus;
-	int32_t link_errno;
-};
-
-static void print_cycle(const struct hl_assembler *a, const struct hl_snapshot *s, int l)
-{
-	const int n = hl_assembler_n_sources(a, l);
-	const float *i = s->i + (size_t)l * s->n_sources;
-
-	printf("{\"lamp\":\"%s\",\"seq\":%" PRIu64 ",\"counter\":%u,\"t_rx_ns\":%" PRId64
-	       ",\"t_done_ns\":%" PRId64 ",\"i\":[",
-	       hl_assembler_lamp_name(a, l), s->lamps[l].cycle_seq, s->lamps[l].counter,
-	       s->lamps[l].t_rx_first_ns, s->lamps[l].t_complete_ns);
-	for (int k = 0; k < n; k++)
-		printf("%s%.9g", k ? "," : "", i[k]);
-	printf("]}\n");
-}
-
-static bool report(const struct options *o, const struct hl_assembler *a,
-		   const struct hl_snapshot *s, struct seen *seen)
-{
-	const char *iface = o->cfg.interface[0] ? o->cfg.interface : o->cfg.replay;
-
-	if ((s->status & HL_INPUT_LINK_UP) != (seen->status & HL_INPUT_LINK_UP) ||
-	    s->link_errno != seen->link_errno)
-		printf("{\"event\":\"link\",\"iface\":\"%s\",\"state\":\"%s\",\"error\":\"%s\",\"t_ns\":%" PRId64
-		       "}\n",
-		       iface, (s->status & HL_INPUT_LINK_UP) ? "up" : "down",
-		       s->link_errno ? strerror(s->link_errno) : "", s->t_event_ns);
-	if (s->bus != seen->bus)
-		printf("{\"event\":\"bus\",\"iface\":\"%s\",\"state\":\"%s\",\"t_ns\":%" PRId64
-		       "}\n",
-		       iface, hl_can_bus_state_name(s->bus), s->t_event_ns);
-	for (int l = 0; l < hl_assembler_n_lamps(a); l++) {
-		const bool was_stale = seen->lamp_status[l] & HL_LAMP_STALE;
-		const bool stale = s->lamps[l].status & HL_LAMP_STALE;
-
-		if (s->lamps[l].cycle_seq != seen->cycle_seq[l] && o->print_cycles)
-			print_cycle(a, s, l);
-		if (stale != was_stale)
-			printf("{\"event\":\"%s\",\"lamp\":\"%s\",\"t_ns\":%" PRId64 "}\n",
-			       stale ? "stale" : "recovered", hl_assembler_lamp_name(a, l),
-			       s->t_event_ns);
-		seen->cycle_seq[l] = s->lamps[l].cycle_seq;
-		seen->lamp_status[l] = s->lamps[l].status;
-	}
-	seen->status = s->status;
-	seen->bus = s->bus;
-	seen->link_errno = s->link_errno;
-	return s->status & HL_INPUT_DONE;
-}
-
-static void summary(const struct hl_assembler *a, const struct hl_ring *ring,
-		    const struct hl_can_input *in)
-{
-	struct hl_ring_counts rc;
-
-	hl_ring_counts(ring, &rc);
-	printf("{\"event\":\"summary\",\"lamps\":{");
-	for (int l = 0; l < hl_assembler_n_lamps(a); l++) {
-		const struct hl_lamp_counters *c = hl_assembler_lamp_counters(a, l);
-
-		printf("%s\"%s\":{\"frames\":%" PRIu64 ",\"cycles\":%" PRIu64
-		       ",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
-		       ",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
-		       ",\"out_of_range\":%" PRIu64 ",\"stale_events\":%" PRIu64
-		       ",\"recoveries\":%" PRIu64 ",\"stale\":%s}",
-		       l ? "," : "", hl_assembler_lamp_name(a, l), c->frames, c->cycles,
-		       c->crc_errors, c->incomplete, c->lost_cycles, c->repeated_frames,
-		       c->out_of_range, c->stale_events, c->recoveries,
-		       hl_assembler_stale(a, l) ? "true" : "false");
-	}
-	printf("},");
-	hl_can_input_report(in, stdout);
-	printf(",\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
-	       ",\"dropped\":%" PRIu64 "}}\n",
-	       rc.pushed, rc.consumed, rc.superseded, rc.dropped);
-}
-
-static int run_decode_only(struct options *op)
-{
-	struct options o = *op;
-	struct hl_dbc *db = NULL;
-	struct hl_dbc_error derr;
-	struct hl_assembler *a = NULL;
-	struct hl_asm_error aerr;
-	struct hl_ring *ring = NULL;
-	struct hl_snapshot *snap = NULL;
-	struct hl_can_input *in = NULL;
-	struct seen seen = { .status = 0 };
-	struct sigaction sa = { .sa_handler = on_signal };
-	int rc, n_src = 1, exit_code = 1;
-	bool done = false;
-
-	rc = hl_dbc_parse_file_flags(o.cfg.dbc, o.cfg.dbc_strict ? HL_DBC_STRICT : 0, &db, &derr);
-	if (rc < 0) {
-		if (derr.line)
-			fprintf(stderr, "hdlampd: '%s':%d:%d: %s\n", o.cfg.dbc, derr.line,
-				derr.column, derr.msg);
-		else
-			fprintf(stderr, "hdlampd: '%s': %s\n", o.cfg.dbc, derr.msg);
-		return 1;
-	}
-	for (int i = 0; i < hl_dbc_n_warnings(db); i++) {
-		int line, col;
-		const char *w = hl_dbc_warning(db, i, &line, &col);
-
-		fprintf(stderr, "hdlampd: '%s':%d:%d: warning: %s\n", o.cfg.dbc, line, col, w);
-	}
-	rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps, o.cfg.timeout_ms, 0,
-			      &a, &aerr);
-	if (rc < 0) {
-		fprintf(stderr, "hdlampd: '%s': %s\n", o.cfg.dbc, aerr.msg);
-		goto out;
-	}
-	for (int l = 0; l < o.n_lamps; l++)
-		if (hl_assembler_n_sources(a, l) > n_src)
-			n_src = hl_assembler_n_sources(a, l);
-	/* replays run on the log's timeline (0 = first frame); a live bus on CLOCK_MONOTONIC */
-	if (o.cfg.interface[0]) {
-		hl_assembler_free(a);
-		rc = hl_assembler_new(db, (const char *const *)o.lamp_names, o.n_lamps,
-				      o.cfg.timeout_ms, hl_monotonic_ns(), &a, &aerr);
-		if (rc < 0)
-			goto out;
-	}
-	rc = hl_ring_new(o.ring_slots, o.n_lamps, n_src, &ring);
-	if (rc == 0)
-		rc = hl_snapshot_new(ring, &snap);
-	if (rc == 0) {
-		struct hl_can_input_config cfg = {
-			.iface = o.cfg.interface[0] ? o.cfg.interface : NULL,
-			.replay = o.cfg.replay[0] ? o.cfg.replay : NULL,
-			.replay_fast = o.cfg.replay_fast,
-			.replay_loop = o.cfg.replay_loop,
-			.log = stderr,
-		};
-
-		rc = hl_can_input_new(&cfg, a, ring, &in);
-		if (rc < 0)
-			fprintf(stderr, "hdlampd: '%s': %s\n", cfg.iface ? cfg.iface : cfg.replay,
-				strerror(-rc));
-	}
-	if (rc < 0)
-		goto out;
-	seen.status = o.cfg.replay[0] ? HL_INPUT_LINK_UP : 0;
-	seen.link_errno = o.cfg.replay[0] ? 0 : ENETDOWN;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	rc = hl_can_input_start(in);
-	if (rc < 0) {
-		fprintf(stderr, "hdlampd: cannot start the CAN thread: %s\n", strerror(-rc));
-		goto out;
-	}
-	while (!done) {
-		struct pollfd pfd = { .fd = hl_can_input_wake_fd(in), .events = POLLIN };
-		uint64_t wakes;
-
-		if (stop_requested)
-			hl_can_input_stop(in); /* joined: everything it pushed is in the ring */
-		while (!done && hl_ring_pop(ring, snap))
-			done = report(&o, a, snap, &seen);
-		if (stop_requested)
-			break;
-		if (!done && poll(&pfd, 1, 100) > 0 && read(pfd.fd, &wakes, sizeof(wakes)) < 0) {
-			/* reset failed: the next poll returns at once, nothing is lost */
-		}
-	}
-	hl_can_input_stop(in);
-	summary(a, ring, in);
-	exit_code = 0;
-out:
-	hl_can_input_free(in);
-	hl_snapshot_free(snap);
-	hl_ring_free(ring);
-	hl_assembler_free(a);
-	hl_dbc_free(db);
-	return exit_code;
 }
 
 int main(int argc, char **argv)
@@ -406,17 +206,19 @@ int main(int argc, char **argv)
 	if (o.print_config) {
 		hl_config_print(&o.cfg, stdout);
 		rc = 0;
-	} else if (o.no_render) {
-		rc = run_decode_only(&o);
 	} else {
-		struct hl_live_args args = {
+		const struct hl_live_args args = {
 			.config_path = o.config_path,
 			.overrides = o.overrides,
 			.n_overrides = o.n_overrides,
+			.lamp_names = o.lamp_names,
+			.n_lamps = o.n_lamps,
 			.ring_slots = o.ring_slots,
+			.render = !o.no_render,
+			.print_cycles = o.print_cycles,
 		};
 
-		if (o.print_cycles) {
+		if (o.print_cycles && !o.no_render) {
 			fprintf(stderr, "hdlampd: --print-cycles goes with --no-render\n");
 			return 2;
 		}

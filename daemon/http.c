@@ -16,6 +16,7 @@
 #include <turbojpeg.h>
 
 #include "daemon/live_html.h"
+#include "render/pixel.h"
 #include "render/plot.h"
 
 #define BOUNDARY "hlframe"
@@ -113,34 +114,6 @@ int hl_http_parse_listen(const char *listen, struct sockaddr_storage *ret_addr, 
 
 /* --- pixels --- */
 
-static float half_to_float(uint16_t h)
-{
-	const uint32_t sign = (uint32_t)(h & 0x8000u) << 16;
-	uint32_t exp = (h >> 10) & 0x1f, mant = h & 0x3ffu, x;
-	float f;
-
-	if (exp == 0x1f) {
-		x = sign | 0x7f800000u | (mant << 13);
-	} else if (exp == 0) {
-		f = ldexpf((float)mant, -24);
-		return sign ? -f : f;
-	} else {
-		x = sign | ((exp + 112) << 23) | (mant << 13);
-	}
-	memcpy(&f, &x, sizeof(f));
-	return f;
-}
-
-static uint8_t srgb8(float x)
-{
-	if (!(x > 0.0f))
-		return 0;
-	if (x >= 1.0f)
-		return 255;
-	x = x <= 0.0031308f ? 12.92f * x : 1.055f * powf(x, 1.0f / 2.4f) - 0.055f;
-	return (uint8_t)lrintf(255.0f * x);
-}
-
 /* RGBA16F luminance (cd/m^2) to display RGB8 as the display view does at exposure 0. */
 static void tone_map(const struct hl_frame *f, uint8_t *rgb)
 {
@@ -150,12 +123,9 @@ static void tone_map(const struct hl_frame *f, uint8_t *rgb)
 		const uint16_t *row = (const uint16_t *)(f->pixels + (size_t)y * f->hdr.stride);
 
 		for (uint32_t x = 0; x < w; x++) {
-			for (int c = 0; c < 3; c++) {
-				float v = half_to_float(row[4 * x + c]) * (float)M_1_PI;
-
-				v = v > 0.0f ? v / (1.0f + v) : 0.0f;
-				rgb[((size_t)y * w + x) * 3 + c] = srgb8(v);
-			}
+			for (int c = 0; c < 3; c++)
+				rgb[((size_t)y * w + x) * 3 + c] =
+					hl_pixel_display8(hl_pixel_half_to_float(row[4 * x + c]));
 		}
 	}
 }

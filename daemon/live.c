@@ -1,4 +1,9 @@
 /* SPDX-License-Identifier: MIT */
+/*
+ * The daemon's one wiring (DESIGN.md §2): DBC, assembler, ring and CAN thread for both modes;
+ * with the renderer on, the render thread consumes the ring and feeds the frame pool and the
+ * outputs; with it off (--no-render), this thread consumes the ring and prints JSON lines.
+ */
 #include "daemon/live.h"
 
 #include <errno.h>
@@ -13,38 +18,129 @@
 #include <sys/signalfd.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "can/socket.h"
 #include "daemon/can_input.h"
 #include "daemon/capture.h"
+#include "daemon/clock.h"
 #include "daemon/frame_pool.h"
 #include "daemon/gpio.h"
 #include "daemon/http.h"
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
+#include "daemon/status.h"
 #include "daemon/stream.h"
 #include "lamp/preset.h"
 
 #define POOL_FRAMES 8
 
+/* Decode-only: what the main thread last printed, to report changes. */
+struct seen {
+	uint64_t cycle_seq[HL_RING_MAX_LAMPS];
+	uint32_t lamp_status[HL_RING_MAX_LAMPS];
+	uint32_t status, bus;
+	int32_t link_errno;
+};
+
+static void print_cycle(const struct hl_assembler *a, const struct hl_snapshot *s, int l)
+{
+	const int n = hl_assembler_n_sources(a, l);
+	const float *i = s->i + (size_t)l * s->n_sources;
+
+	printf("{\"lamp\":\"%s\",\"seq\":%" PRIu64 ",\"counter\":%u,\"t_rx_ns\":%" PRId64
+	       ",\"t_done_ns\":%" PRId64 ",\"i\":[",
+	       hl_assembler_lamp_name(a, l), s->lamps[l].cycle_seq, s->lamps[l].counter,
+	       s->lamps[l].t_rx_first_ns, s->lamps[l].t_complete_ns);
+	for (int k = 0; k < n; k++)
+		printf("%s%.9g", k ? "," : "", i[k]);
+	printf("]}\n");
+}
+
+/* Decode-only: prints what snapshot s changed; true when it is the replay's last. */
+static bool report(const char *iface, bool print_cycles, const struct hl_assembler *a,
+		   const struct hl_snapshot *s, struct seen *seen)
+{
+	if ((s->status & HL_INPUT_LINK_UP) != (seen->status & HL_INPUT_LINK_UP) ||
+	    s->link_errno != seen->link_errno)
+		printf("{\"event\":\"link\",\"iface\":\"%s\",\"state\":\"%s\",\"error\":\"%s\",\"t_ns\":%" PRId64
+		       "}\n",
+		       iface, (s->status & HL_INPUT_LINK_UP) ? "up" : "down",
+		       s->link_errno ? strerror(s->link_errno) : "", s->t_event_ns);
+	if (s->bus != seen->bus)
+		printf("{\"event\":\"bus\",\"iface\":\"%s\",\"state\":\"%s\",\"t_ns\":%" PRId64
+		       "}\n",
+		       iface, hl_can_bus_state_name(s->bus), s->t_event_ns);
+	for (int l = 0; l < hl_assembler_n_lamps(a); l++) {
+		const bool was_stale = seen->lamp_status[l] & HL_LAMP_STALE;
+		const bool stale = s->lamps[l].status & HL_LAMP_STALE;
+
+		if (s->lamps[l].cycle_seq != seen->cycle_seq[l] && print_cycles)
+			print_cycle(a, s, l);
+		if (stale != was_stale)
+			printf("{\"event\":\"%s\",\"lamp\":\"%s\",\"t_ns\":%" PRId64 "}\n",
+			       stale ? "stale" : "recovered", hl_assembler_lamp_name(a, l),
+			       s->t_event_ns);
+		seen->cycle_seq[l] = s->lamps[l].cycle_seq;
+		seen->lamp_status[l] = s->lamps[l].status;
+	}
+	seen->status = s->status;
+	seen->bus = s->bus;
+	seen->link_errno = s->link_errno;
+	return s->status & HL_INPUT_DONE;
+}
+
+/* Decode-only: every counter, once at exit. */
+static void summary(const struct hl_assembler *a, const struct hl_ring *ring,
+		    const struct hl_can_input *in)
+{
+	struct hl_ring_counts rc;
+
+	hl_ring_counts(ring, &rc);
+	printf("{\"event\":\"summary\",\"lamps\":{");
+	for (int l = 0; l < hl_assembler_n_lamps(a); l++) {
+		const struct hl_lamp_counters *c = hl_assembler_lamp_counters(a, l);
+
+		printf("%s\"%s\":{\"frames\":%" PRIu64 ",\"cycles\":%" PRIu64
+		       ",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
+		       ",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
+		       ",\"out_of_range\":%" PRIu64 ",\"stale_events\":%" PRIu64
+		       ",\"recoveries\":%" PRIu64 ",\"stale\":%s}",
+		       l ? "," : "", hl_assembler_lamp_name(a, l), c->frames, c->cycles,
+		       c->crc_errors, c->incomplete, c->lost_cycles, c->repeated_frames,
+		       c->out_of_range, c->stale_events, c->recoveries,
+		       hl_assembler_stale(a, l) ? "true" : "false");
+	}
+	printf("},");
+	hl_can_input_report(in, stdout);
+	printf(",\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
+	       ",\"dropped\":%" PRIu64 "}}\n",
+	       rc.pushed, rc.consumed, rc.superseded, rc.dropped);
+}
+
 struct live {
 	struct hl_config cfg;
 	const struct hl_live_args *args;
+	const char *input_name; /* the interface or the replayed log */
 	struct hl_dbc *db;
 	struct hl_assembler *a;
-	struct hl_lid *lids[2];
+	const char *lamp_names[HL_RING_MAX_LAMPS]; /* the assembler's */
 	int n_lamps;
 	struct hl_ring *ring;
+	struct hl_can_input *in;
+	/* decode-only: this thread is the ring's consumer */
+	struct hl_snapshot *snap;
+	struct seen seen;
+	/* the renderer and the outputs (NULL when decode-only) */
+	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
 	struct hl_frame_pool *pool;
 	struct hl_pipeline *pipe;
 	struct hl_stream *stream;
-	struct hl_can_input *in;
 	struct hl_gpio *gpio;
+	struct hl_status *status;
 	struct hl_http *http;
 	struct hl_frame_exr_info exr_info; /* camera and lamp poses for /frame.exr */
 	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
 	int64_t watchdog_last_ns; /* render thread's */
-	pthread_mutex_t capture_lock;
-	uint64_t captures, capture_errors, reloads;
+	pthread_mutex_t capture_lock; /* one capture at a time */
 };
 
 static void log_msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -59,23 +155,18 @@ static void log_msg(const char *fmt, ...)
 	va_end(ap);
 }
 
-/* Render thread hook: outputs learn of the new frame at once. */
-static void on_published(void *ud, const struct hl_frame *f)
+/* The pool's subscriber: the strobe toggles with every published frame. */
+static void strobe(void *ud, const struct hl_frame *f)
 {
-	struct live *lv = ud;
-
 	(void)f;
-	if (lv->stream)
-		hl_stream_wake(lv->stream);
-	if (lv->gpio)
-		hl_gpio_strobe(lv->gpio); /* counted in the gpio's counters, errors too */
+	hl_gpio_strobe(ud); /* counted in the gpio's counters, errors too */
 }
 
 /* Render thread hook, every loop turn: the watchdog proves the render loop runs. */
 static void on_alive(void *ud)
 {
 	struct live *lv = ud;
-	const int64_t now = hl_monotonic_ns();
+	const int64_t now = hl_clock_monotonic_ns();
 
 	if (lv->watchdog_us && now - lv->watchdog_last_ns >= (int64_t)lv->watchdog_us * 1000) {
 		hl_notify_watchdog();
@@ -83,8 +174,27 @@ static void on_alive(void *ud)
 	}
 }
 
+/* Per lamp, each source's DBC scale (ret[l] malloc'd, n_sources entries; 1, 0 past the lamp's). */
+static int source_scales(const struct hl_assembler *a, int n_lamps, int n_sources,
+			 struct hl_source_scale *ret[HL_FRAME_MAX_LAMPS])
+{
+	for (int l = 0; l < n_lamps; l++) {
+		ret[l] = malloc(sizeof(*ret[l]) * n_sources);
+		if (!ret[l])
+			return -ENOMEM;
+		for (int k = 0; k < n_sources; k++) {
+			const struct hl_dbc_signal *s = hl_assembler_source_signal(a, l, k);
+
+			ret[l][k] = s ? (struct hl_source_scale){ s->factor, s->offset } :
+					(struct hl_source_scale){ 1.0, 0.0 };
+		}
+	}
+	return 0;
+}
+
 /* The fail-safe preset's raw values per lamp, or NULL when the mode is not a preset. */
-static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources, uint8_t *ret[2])
+static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources,
+			 uint8_t *ret[HL_FRAME_MAX_LAMPS])
 {
 	struct hl_preset_error perr;
 	struct hl_preset *p;
@@ -117,163 +227,8 @@ static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources
 	return 0;
 }
 
-int hl_live_status_json(struct live *lv, char *buf, size_t size);
-int hl_live_metrics(struct live *lv, char *buf, size_t size);
-
-int hl_live_status_json(struct live *lv, char *buf, size_t size)
-{
-	FILE *f = fmemopen(buf, size, "w");
-	struct hl_input_status st;
-	struct hl_pipeline_counts pc;
-	struct hl_stream_counts sc = { 0 };
-	struct hl_ring_counts rc;
-	struct hl_frame_pool_counts fc;
-	long n;
-
-	if (!f)
-		return -errno;
-	hl_can_input_status(lv->in, &st);
-	hl_pipeline_counts(lv->pipe, &pc);
-	if (lv->stream)
-		hl_stream_counts(lv->stream, &sc);
-	hl_ring_counts(lv->ring, &rc);
-	hl_frame_pool_counts(lv->pool, &fc);
-	fprintf(f,
-		"{\"renderer\":\"%s\",\"input\":{\"source\":\"%s\",\"link\":\"%s\",\"bus\":\"%s\"},\"lamps\":[",
-		hl_pipeline_describe(lv->pipe),
-		lv->cfg.interface[0] ? lv->cfg.interface : lv->cfg.replay,
-		st.link_up ? "up" : "down", st.bus);
-	for (int l = 0; l < lv->n_lamps; l++) {
-		const struct hl_lamp_counters *c = &st.lamps[l];
-
-		fprintf(f,
-			"%s{\"name\":\"%s\",\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
-			",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
-			",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
-			",\"stale_events\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64
-			",\"cycles_not_rendered\":%" PRIu64 "}",
-			l ? "," : "", hl_assembler_lamp_name(lv->a, l),
-			st.stale[l] ? "true" : "false", st.stale[l] ? "true" : "false", c->cycles,
-			c->crc_errors, c->incomplete, c->lost_cycles, c->repeated_frames,
-			c->stale_events, pc.failsafe_frames[l], pc.cycles_not_rendered[l]);
-	}
-	fprintf(f,
-		"],\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
-		",\"published\":%" PRIu64 ",\"not_published\":%" PRIu64
-		",\"render_ms_last\":%.3f,\"render_ms_max\":%.3f},"
-		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
-		",\"dropped\":%" PRIu64 "},\"stream\":{\"clients\":%" PRIu64
-		",\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64 "},\"captures\":%" PRIu64
-		",\"reloads\":%" PRIu64,
-		lv->cfg.failsafe == HL_FAILSAFE_HOLD ? "hold" :
-		lv->cfg.failsafe == HL_FAILSAFE_DARK ? "dark" :
-						       "preset",
-		pc.frames + pc.not_published, fc.published, pc.not_published, pc.render_ms_last,
-		pc.render_ms_max, rc.pushed, rc.consumed, rc.superseded, rc.dropped, sc.clients,
-		sc.frames_sent, sc.frames_skipped, lv->captures, lv->reloads);
-	if (lv->gpio) {
-		struct hl_gpio_counts gc;
-
-		hl_gpio_counts(lv->gpio, &gc);
-		fprintf(f,
-			",\"gpio\":{\"strobe_toggles\":%" PRIu64 ",\"strobe_errors\":%" PRIu64
-			",\"trigger_edges\":%" PRIu64 ",\"trigger_lost\":%" PRIu64 "}",
-			gc.strobe_toggles, gc.strobe_errors, gc.trigger_edges, gc.trigger_lost);
-	}
-	fputc('}', f);
-	n = ftell(f);
-	fclose(f);
-	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
-}
-
-int hl_live_metrics(struct live *lv, char *buf, size_t size)
-{
-	static const double edges[7] = { 1, 2, 5, 10, 20, 50, 100 };
-	FILE *f = fmemopen(buf, size, "w");
-	struct hl_input_status st;
-	struct hl_pipeline_counts pc;
-	struct hl_stream_counts sc = { 0 };
-	struct hl_ring_counts rc;
-	uint64_t cum = 0;
-	long n;
-
-	if (!f)
-		return -errno;
-	hl_can_input_status(lv->in, &st);
-	hl_pipeline_counts(lv->pipe, &pc);
-	if (lv->stream)
-		hl_stream_counts(lv->stream, &sc);
-	hl_ring_counts(lv->ring, &rc);
-#define LAMP_COUNTER(name, field, help)                                                  \
-	fprintf(f, "# HELP hdlamp_" name " " help "\n# TYPE hdlamp_" name " counter\n"); \
-	for (int l = 0; l < lv->n_lamps; l++)                                            \
-		fprintf(f, "hdlamp_" name "{lamp=\"%s\"} %" PRIu64 "\n",                 \
-			hl_assembler_lamp_name(lv->a, l), st.lamps[l].field);
-	LAMP_COUNTER("cycles_total", cycles, "Complete lamp cycles.")
-	LAMP_COUNTER("crc_errors_total", crc_errors, "Frames dropped for a wrong E2E CRC.")
-	LAMP_COUNTER("incomplete_cycles_total", incomplete, "Cycles abandoned for a missing part.")
-	LAMP_COUNTER("lost_cycles_total", lost_cycles, "Alive counter values never seen.")
-	LAMP_COUNTER("duplicate_frames_total", repeated_frames, "Repeated frames ignored.")
-	LAMP_COUNTER("stale_events_total", stale_events, "Times the lamp became stale.")
-#undef LAMP_COUNTER
-	fprintf(f, "# HELP hdlamp_cycles_not_rendered_total Complete cycles no rendered frame "
-		   "showed.\n# TYPE hdlamp_cycles_not_rendered_total counter\n");
-	for (int l = 0; l < lv->n_lamps; l++)
-		fprintf(f, "hdlamp_cycles_not_rendered_total{lamp=\"%s\"} %" PRIu64 "\n",
-			hl_assembler_lamp_name(lv->a, l), pc.cycles_not_rendered[l]);
-	fprintf(f, "# HELP hdlamp_lamp_stale Whether the lamp is stale (fail-safe active).\n"
-		   "# TYPE hdlamp_lamp_stale gauge\n");
-	for (int l = 0; l < lv->n_lamps; l++)
-		fprintf(f, "hdlamp_lamp_stale{lamp=\"%s\"} %d\n", hl_assembler_lamp_name(lv->a, l),
-			st.stale[l]);
-	fprintf(f,
-		"# HELP hdlamp_bus_state The CAN input's state (1 for the current one).\n"
-		"# TYPE hdlamp_bus_state gauge\nhdlamp_bus_state{state=\"%s\"} 1\n",
-		st.bus);
-	fprintf(f,
-		"# HELP hdlamp_link_up Whether the CAN input is open.\n"
-		"# TYPE hdlamp_link_up gauge\nhdlamp_link_up %d\n",
-		st.link_up);
-	fprintf(f,
-		"# HELP hdlamp_ring_snapshots_total Ring snapshots by fate.\n"
-		"# TYPE hdlamp_ring_snapshots_total counter\n"
-		"hdlamp_ring_snapshots_total{fate=\"consumed\"} %" PRIu64 "\n"
-		"hdlamp_ring_snapshots_total{fate=\"superseded\"} %" PRIu64 "\n"
-		"hdlamp_ring_snapshots_total{fate=\"dropped\"} %" PRIu64 "\n",
-		rc.consumed, rc.superseded, rc.dropped);
-	fprintf(f,
-		"# HELP hdlamp_kernel_drops_total Frames the kernel dropped (SO_RXQ_OVFL).\n"
-		"# TYPE hdlamp_kernel_drops_total counter\nhdlamp_kernel_drops_total %" PRIu64 "\n",
-		st.kernel_drops);
-	fprintf(f,
-		"# HELP hdlamp_frames_total Frames rendered and published.\n"
-		"# TYPE hdlamp_frames_total counter\nhdlamp_frames_total %" PRIu64 "\n",
-		pc.frames);
-	fprintf(f,
-		"# HELP hdlamp_stream_frames_skipped_total Frames slow stream clients skipped.\n"
-		"# TYPE hdlamp_stream_frames_skipped_total counter\n"
-		"hdlamp_stream_frames_skipped_total %" PRIu64 "\n",
-		sc.frames_skipped);
-	fprintf(f, "# HELP hdlamp_render_ms Time to render a frame (ms).\n"
-		   "# TYPE hdlamp_render_ms histogram\n");
-	for (int b = 0; b < 8; b++) {
-		cum += pc.render_ms_buckets[b];
-		if (b < 7)
-			fprintf(f, "hdlamp_render_ms_bucket{le=\"%g\"} %" PRIu64 "\n", edges[b],
-				cum);
-		else
-			fprintf(f, "hdlamp_render_ms_bucket{le=\"+Inf\"} %" PRIu64 "\n", cum);
-	}
-	fprintf(f, "hdlamp_render_ms_sum %.6f\nhdlamp_render_ms_count %" PRIu64 "\n",
-		pc.render_ms_sum, cum);
-	n = ftell(f);
-	fclose(f);
-	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
-}
-
 /* Writes a capture of the newest frame (any thread). */
-int hl_live_capture(struct live *lv, char *path, size_t size);
-int hl_live_capture(struct live *lv, char *path, size_t size)
+static int capture(struct live *lv, char *path, size_t size)
 {
 	struct hl_capture_scene sc = {
 		.gb = hl_pipeline_gbuffer(lv->pipe),
@@ -285,7 +240,7 @@ int hl_live_capture(struct live *lv, char *path, size_t size)
 	int rc;
 
 	for (int l = 0; l < lv->n_lamps; l++) {
-		sc.lamp_names[l] = hl_assembler_lamp_name(lv->a, l);
+		sc.lamp_names[l] = lv->lamp_names[l];
 		sc.grids[l] = hl_lid_grid(lv->lids[l]);
 	}
 	f = hl_frame_pool_get(lv->pool, 0, 1000);
@@ -295,11 +250,8 @@ int hl_live_capture(struct live *lv, char *path, size_t size)
 	}
 	pthread_mutex_lock(&lv->capture_lock);
 	rc = hl_capture_write(lv->cfg.capture_dir, f, &sc, path, size, err, sizeof(err));
-	if (rc < 0)
-		lv->capture_errors++;
-	else
-		lv->captures++;
 	pthread_mutex_unlock(&lv->capture_lock);
+	hl_status_captured(lv->status, rc >= 0);
 	hl_frame_pool_release(lv->pool, f);
 	if (rc < 0)
 		log_msg("capture failed: %s", err);
@@ -308,20 +260,23 @@ int hl_live_capture(struct live *lv, char *path, size_t size)
 	return rc;
 }
 
-/* HTTP callbacks (the server's threads; everything they read is locked or atomic). */
+/*
+ * HTTP callbacks, on the server's threads: the status locks what it reads (daemon/status.h);
+ * captures are serialised by capture_lock.
+ */
 static int http_status(void *ud, char *buf, size_t size)
 {
-	return hl_live_status_json(ud, buf, size);
+	return hl_status_json(((struct live *)ud)->status, buf, size);
 }
 
 static int http_metrics(void *ud, char *buf, size_t size)
 {
-	return hl_live_metrics(ud, buf, size);
+	return hl_status_metrics(((struct live *)ud)->status, buf, size);
 }
 
 static int http_capture(void *ud, char *path, size_t size)
 {
-	return hl_live_capture(ud, path, size);
+	return capture(ud, path, size);
 }
 
 /* SIGHUP: re-read the configuration; the CAN thread runs on, so no cycle is lost. */
@@ -329,7 +284,7 @@ static void reload(struct live *lv)
 {
 	struct hl_config next;
 	struct hl_config_error err;
-	uint8_t *dims[2] = { NULL, NULL };
+	uint8_t *dims[HL_FRAME_MAX_LAMPS] = { NULL };
 
 	hl_config_defaults(&next);
 	if (lv->args->config_path && hl_config_load(&next, lv->args->config_path, &err) < 0) {
@@ -348,26 +303,26 @@ static void reload(struct live *lv)
 	lv->cfg.failsafe = next.failsafe;
 	lv->cfg.exposure_ev = next.exposure_ev;
 	memcpy(lv->cfg.failsafe_preset, next.failsafe_preset, sizeof(next.failsafe_preset));
-	lv->reloads++;
+	hl_status_reloaded(lv->status, next.failsafe); /* what HTTP threads read, locked */
 	free(dims[0]);
 	free(dims[1]);
 	log_msg("reloaded: lamps.failsafe and render.exposure_ev applied; other keys take effect at restart");
 }
 
-static int setup(struct live *lv)
+/* DBC and assembler: the lamps and how their cycles come in (both modes). */
+static int setup_input(struct live *lv, int *ret_n_sources)
 {
 	struct hl_dbc_error derr;
 	struct hl_asm_error aerr;
-	struct hl_lid_error lerr;
-	char *names[HL_ASM_MAX_LAMPS], lamps[HL_CONFIG_NAME], err[512];
-	const char *lid_paths[2] = { lv->cfg.lid_left, lv->cfg.lid_right };
-	uint8_t *dims[2] = { NULL, NULL };
-	int n = 0, rc, n_src = 0;
+	int rc, n_src = 1;
 
 	rc = hl_dbc_parse_file_flags(lv->cfg.dbc, lv->cfg.dbc_strict ? HL_DBC_STRICT : 0, &lv->db,
 				     &derr);
 	if (rc < 0) {
-		log_msg("'%s':%d:%d: %s", lv->cfg.dbc, derr.line, derr.column, derr.msg);
+		if (derr.line)
+			log_msg("'%s':%d:%d: %s", lv->cfg.dbc, derr.line, derr.column, derr.msg);
+		else
+			log_msg("'%s': %s", lv->cfg.dbc, derr.msg);
 		return rc;
 	}
 	for (int i = 0; i < hl_dbc_n_warnings(lv->db); i++) {
@@ -376,22 +331,36 @@ static int setup(struct live *lv)
 
 		log_msg("'%s':%d:%d: warning: %s", lv->cfg.dbc, line, col, w);
 	}
-	snprintf(lamps, sizeof(lamps), "%s", lv->cfg.lamps);
-	for (char *save = NULL, *t = strtok_r(lamps, ",", &save); t && n < HL_ASM_MAX_LAMPS;
-	     t = strtok_r(NULL, ",", &save))
-		names[n++] = t;
-	if (n < 1 || n > 2) {
+	if (lv->args->render && lv->args->n_lamps > HL_FRAME_MAX_LAMPS) {
 		log_msg("can.lamps '%s': the renderer takes one or two lamps", lv->cfg.lamps);
 		return -EINVAL;
 	}
-	rc = hl_assembler_new(lv->db, (const char *const *)names, n, lv->cfg.timeout_ms,
-			      lv->cfg.interface[0] ? hl_monotonic_ns() : 0, &lv->a, &aerr);
+	/* replays run on the log's timeline (0 = first frame); a live bus on CLOCK_MONOTONIC */
+	rc = hl_assembler_new(lv->db, (const char *const *)lv->args->lamp_names, lv->args->n_lamps,
+			      lv->cfg.timeout_ms,
+			      lv->cfg.interface[0] ? hl_clock_monotonic_ns() : 0, &lv->a, &aerr);
 	if (rc < 0) {
 		log_msg("'%s': %s", lv->cfg.dbc, aerr.msg);
 		return rc;
 	}
-	lv->n_lamps = n;
-	for (int l = 0; l < n; l++) {
+	lv->n_lamps = hl_assembler_n_lamps(lv->a);
+	for (int l = 0; l < lv->n_lamps; l++) {
+		lv->lamp_names[l] = hl_assembler_lamp_name(lv->a, l);
+		if (hl_assembler_n_sources(lv->a, l) > n_src)
+			n_src = hl_assembler_n_sources(lv->a, l);
+	}
+	*ret_n_sources = n_src;
+	return 0;
+}
+
+/* The lamps' LID files, which the renderer lights. */
+static int load_lids(struct live *lv)
+{
+	const char *lid_paths[HL_FRAME_MAX_LAMPS] = { lv->cfg.lid_left, lv->cfg.lid_right };
+	struct hl_lid_error lerr;
+	int rc;
+
+	for (int l = 0; l < lv->n_lamps; l++) {
 		if (!lid_paths[l][0]) {
 			log_msg("lamps.%s: no LID file configured (make one with 'hdlamp model --out DIR')",
 				l ? "right" : "left");
@@ -405,57 +374,50 @@ static int setup(struct live *lv)
 		if (hl_lid_n_sources(lv->lids[l]) != hl_assembler_n_sources(lv->a, l) &&
 		    !hl_lid_is_combined(lv->lids[l])) {
 			log_msg("'%s' has %d sources; the DBC gives lamp '%s' %d", lid_paths[l],
-				hl_lid_n_sources(lv->lids[l]), names[l],
+				hl_lid_n_sources(lv->lids[l]), lv->lamp_names[l],
 				hl_assembler_n_sources(lv->a, l));
 			return -EINVAL;
 		}
-		if (hl_assembler_n_sources(lv->a, l) > n_src)
-			n_src = hl_assembler_n_sources(lv->a, l);
 	}
-	rc = load_failsafe(&lv->cfg, n, n_src, dims);
-	if (rc < 0)
-		return rc;
-	rc = hl_ring_new(lv->args->ring_slots, n, n_src, &lv->ring);
-	if (rc == 0) {
-		const struct hl_lid_grid *g = hl_lid_grid(lv->lids[0]);
-		struct hl_frame_shape shape = {
-			.width = lv->cfg.width,
-			.height = lv->cfg.height,
-			.format = strcmp(lv->cfg.view, "hdr") == 0 ? HL_PIXEL_RGBA16F :
-								     HL_PIXEL_RGB8,
-			.n_lamps = n,
-			.n_sources = n_src,
-			.dist_width = g->width,
-			.dist_height = g->height,
-		};
+	return 0;
+}
 
+/* The render thread and its frame pool, before the CAN thread starts. */
+static int setup_renderer(struct live *lv, int n_src)
+{
+	uint8_t *dims[HL_FRAME_MAX_LAMPS] = { NULL };
+	struct hl_source_scale *scales[HL_FRAME_MAX_LAMPS] = { NULL };
+	const struct hl_lid_grid *g = hl_lid_grid(lv->lids[0]);
+	const struct hl_frame_shape shape = {
+		.width = lv->cfg.width,
+		.height = lv->cfg.height,
+		.format = strcmp(lv->cfg.view, "hdr") == 0 ? HL_PIXEL_RGBA16F : HL_PIXEL_RGB8,
+		.n_lamps = lv->n_lamps,
+		.n_sources = n_src,
+		.dist_width = g->width,
+		.dist_height = g->height,
+	};
+	const struct hl_pipeline_hooks hooks = { .userdata = lv, .alive = on_alive };
+	char err[512];
+	int rc;
+
+	rc = load_failsafe(&lv->cfg, lv->n_lamps, n_src, dims);
+	if (rc == 0)
+		rc = source_scales(lv->a, lv->n_lamps, n_src, scales);
+	if (rc == 0)
 		rc = hl_frame_pool_new(POOL_FRAMES, &shape, &lv->pool);
-	}
 	if (rc == 0) {
-		struct hl_can_input_config icfg = {
-			.iface = lv->cfg.interface[0] ? lv->cfg.interface : NULL,
-			.replay = lv->cfg.replay[0] ? lv->cfg.replay : NULL,
-			.replay_fast = lv->cfg.replay_fast,
-			.replay_loop = lv->cfg.replay_loop,
-			.log = stderr,
-		};
-
-		rc = hl_can_input_new(&icfg, lv->a, lv->ring, &lv->in);
-		if (rc < 0)
-			log_msg("'%s': %s", icfg.iface ? icfg.iface : icfg.replay, strerror(-rc));
-	}
-	if (rc == 0) {
-		struct hl_pipeline_hooks hooks = { .userdata = lv,
-						   .published = on_published,
-						   .alive = on_alive };
-
-		rc = hl_pipeline_new(&lv->cfg, lv->lids, n, (const uint8_t *const *)dims, lv->ring,
-				     hl_can_input_wake_fd(lv->in), lv->pool, &hooks, &lv->pipe);
+		rc = hl_pipeline_new(&lv->cfg, lv->lids, lv->n_lamps,
+				     (const struct hl_source_scale *const *)scales,
+				     (const uint8_t *const *)dims, lv->ring, lv->pool, &hooks,
+				     &lv->pipe);
 		if (rc < 0)
 			log_msg("render.view '%s': expected display, lux or hdr", lv->cfg.view);
 	}
-	free(dims[0]);
-	free(dims[1]);
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
+		free(dims[l]);
+		free(scales[l]);
+	}
 	if (rc < 0)
 		return rc;
 	if (lv->cfg.gpio_chip[0]) {
@@ -468,6 +430,9 @@ static int setup(struct live *lv)
 			log_msg("gpio: %s", gerr.msg);
 			return rc;
 		}
+		rc = hl_frame_pool_subscribe(lv->pool, strobe, lv->gpio);
+		if (rc < 0)
+			return rc;
 	}
 	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
 		lv->watchdog_us = 0;
@@ -477,6 +442,25 @@ static int setup(struct live *lv)
 		return rc;
 	}
 	log_msg("renderer: %s", hl_pipeline_describe(lv->pipe));
+	return 0;
+}
+
+/* The frame stream, the status and the HTTP server. */
+static int setup_outputs(struct live *lv)
+{
+	struct hl_status_sources ss = {
+		.input_name = lv->input_name,
+		.n_lamps = lv->n_lamps,
+		.lamp_names = lv->lamp_names,
+		.in = lv->in,
+		.ring = lv->ring,
+		.pipe = lv->pipe,
+		.pool = lv->pool,
+		.gpio = lv->gpio,
+	};
+	char err[512];
+	int rc;
+
 	if (lv->cfg.stream_tcp[0] || lv->cfg.stream_unix[0]) {
 		rc = hl_stream_new(lv->cfg.stream_tcp, lv->cfg.stream_unix, lv->cfg.stream_raw,
 				   lv->cfg.stream_max_clients, lv->pool, &lv->stream, err,
@@ -491,6 +475,10 @@ static int setup(struct live *lv)
 			lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
 			hl_stream_tcp_port(lv->stream));
 	}
+	ss.stream = lv->stream;
+	rc = hl_status_new(&ss, lv->cfg.failsafe, &lv->status);
+	if (rc < 0)
+		return rc;
 	if (lv->cfg.http_listen[0]) {
 		struct hl_http_sources src = {
 			.pool = lv->pool,
@@ -514,6 +502,51 @@ static int setup(struct live *lv)
 			hl_http_port(lv->http),
 			lv->cfg.http_capture ? ", POST /capture allowed" : "");
 	}
+	return 0;
+}
+
+static int setup(struct live *lv)
+{
+	int rc, n_src;
+
+	rc = setup_input(lv, &n_src);
+	if (rc == 0 && lv->args->render)
+		rc = load_lids(lv);
+	if (rc == 0)
+		rc = hl_ring_new(lv->args->ring_slots, lv->n_lamps, n_src, &lv->ring);
+	if (rc == 0 && !lv->args->render)
+		rc = hl_snapshot_new(lv->ring, &lv->snap);
+	if (rc < 0)
+		return rc;
+	{
+		struct hl_can_input_config icfg = {
+			.iface = lv->cfg.interface[0] ? lv->cfg.interface : NULL,
+			.replay = lv->cfg.replay[0] ? lv->cfg.replay : NULL,
+			.replay_fast = lv->cfg.replay_fast,
+			.replay_loop = lv->cfg.replay_loop,
+			.log = stderr,
+		};
+
+		rc = hl_can_input_new(&icfg, lv->a, lv->ring, &lv->in);
+		if (rc < 0) {
+			log_msg("'%s': %s", lv->input_name, strerror(-rc));
+			return rc;
+		}
+	}
+	if (lv->args->render) {
+		rc = setup_renderer(lv, n_src);
+		if (rc == 0)
+			rc = setup_outputs(lv);
+		if (rc < 0)
+			return rc;
+	} else {
+		struct hl_input_status st;
+
+		/* the input's initial state, so that the first link event is a change */
+		hl_can_input_status(lv->in, &st);
+		lv->seen.status = st.link_up ? HL_INPUT_LINK_UP : 0;
+		lv->seen.link_errno = st.link_errno;
+	}
 	rc = hl_can_input_start(lv->in);
 	if (rc < 0)
 		log_msg("cannot start the CAN thread: %s", strerror(-rc));
@@ -527,14 +560,18 @@ static void teardown(struct live *lv)
 	if (lv->pool)
 		hl_frame_pool_close(lv->pool);
 	hl_http_free(lv->http);
+	hl_pipeline_free(lv->pipe); /* stopped first: nothing publishes any more */
 	hl_stream_free(lv->stream);
-	hl_pipeline_free(lv->pipe);
+	if (lv->gpio)
+		hl_frame_pool_unsubscribe(lv->pool, strobe, lv->gpio);
 	hl_gpio_free(lv->gpio);
+	hl_status_free(lv->status);
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);
+	hl_snapshot_free(lv->snap);
 	hl_ring_free(lv->ring);
-	hl_lid_free(lv->lids[0]);
-	hl_lid_free(lv->lids[1]);
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++)
+		hl_lid_free(lv->lids[l]);
 	hl_assembler_free(lv->a);
 	hl_dbc_free(lv->db);
 	pthread_mutex_destroy(&lv->capture_lock);
@@ -550,7 +587,7 @@ static void notify_status(struct live *lv, const struct hl_input_status *st)
 	hl_pipeline_counts(lv->pipe, &pc);
 	for (int l = 0; l < lv->n_lamps && n < (int)sizeof(line); l++)
 		n += snprintf(line + n, sizeof(line) - n, "%s: %" PRIu64 " cycles%s; ",
-			      hl_assembler_lamp_name(lv->a, l), st->lamps[l].cycles,
+			      lv->lamp_names[l], st->lamps[l].cycles,
 			      st->stale[l] ? " (stale, fail-safe)" : "");
 	if (n < (int)sizeof(line))
 		snprintf(line + n, sizeof(line) - n, "%" PRIu64 " frames, bus %s", pc.frames,
@@ -571,9 +608,37 @@ static void log_changes(struct live *lv, struct hl_input_status *prev)
 			st.link_up ? "" : strerror(st.link_errno));
 	for (int l = 0; l < lv->n_lamps; l++)
 		if (st.stale[l] != prev->stale[l])
-			log_msg("lamp '%s': %s", hl_assembler_lamp_name(lv->a, l),
+			log_msg("lamp '%s': %s", lv->lamp_names[l],
 				st.stale[l] ? "stale, fail-safe on" : "recovered, fail-safe off");
 	*prev = st;
+}
+
+/* Decode-only: prints every snapshot the ring holds; true after the replay's last. */
+static bool print_pending(struct live *lv)
+{
+	bool done = false;
+
+	while (!done && hl_ring_pop(lv->ring, lv->snap))
+		done = report(lv->input_name, lv->args->print_cycles, lv->a, lv->snap, &lv->seen);
+	return done;
+}
+
+/* The renderer's turn of the event loop: logs, sd_notify; true when a finite replay ended. */
+static bool watch(struct live *lv, struct hl_input_status *prev, bool *ready, int64_t *status_ns)
+{
+	const int64_t now = hl_clock_monotonic_ns();
+
+	log_changes(lv, prev);
+	/* READY once the lamps are loaded, the renderer is up and the bus is open */
+	if (!*ready && prev->link_up) {
+		hl_notify_ready("running");
+		*ready = true;
+	}
+	if (now - *status_ns >= 1000000000) {
+		*status_ns = now;
+		notify_status(lv, prev);
+	}
+	return prev->done;
 }
 
 int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
@@ -581,54 +646,52 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	struct live lv = { .cfg = *cfg, .args = args };
 	struct hl_input_status prev = { .link_up = false };
 	int64_t status_ns = 0;
-	bool ready = false;
+	bool ready = false, done = false;
 	sigset_t mask;
 	int sfd, rc, code = 1;
 	char buf[1 << 16];
 
+	lv.input_name = cfg->interface[0] ? cfg->interface : cfg->replay;
 	pthread_mutex_init(&lv.capture_lock, NULL);
 	/* signals arrive through a signalfd here; every thread inherits the mask */
 	sigemptyset(&mask);
 	sigaddset(&mask, SIGINT);
 	sigaddset(&mask, SIGTERM);
-	sigaddset(&mask, SIGHUP);
-	sigaddset(&mask, SIGUSR1);
+	if (args->render) { /* reload and capture; decode-only keeps their default actions */
+		sigaddset(&mask, SIGHUP);
+		sigaddset(&mask, SIGUSR1);
+	}
 	pthread_sigmask(SIG_BLOCK, &mask, NULL);
 	signal(SIGPIPE, SIG_IGN);
 	sfd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
 	rc = sfd < 0 ? -errno : setup(&lv);
 	while (rc == 0) {
-		struct pollfd pfd[2] = { { .fd = sfd, .events = POLLIN },
-					 { .fd = lv.gpio ? hl_gpio_trigger_fd(lv.gpio) : -1,
-					   .events = POLLIN } };
+		struct pollfd pfd[3] = {
+			{ .fd = sfd, .events = POLLIN },
+			{ .fd = lv.gpio ? hl_gpio_trigger_fd(lv.gpio) : -1, .events = POLLIN },
+			/* decode-only: this thread is the ring's consumer */
+			{ .fd = lv.pipe ? -1 : hl_ring_wake_fd(lv.ring), .events = POLLIN },
+		};
 		struct signalfd_siginfo si;
-		int64_t now;
 
-		log_changes(&lv, &prev);
-		now = hl_monotonic_ns();
-		/* READY once the lamps are loaded, the renderer is up and the bus is open */
-		if (!ready && prev.link_up) {
-			hl_notify_ready("running");
-			ready = true;
-		}
-		if (now - status_ns >= 1000000000) {
-			status_ns = now;
-			notify_status(&lv, &prev);
-		}
-		if (prev.done) {
+		done = lv.pipe ? watch(&lv, &prev, &ready, &status_ns) : print_pending(&lv);
+		if (done) {
 			/* a finite replay ended: let the last frame out, then stop */
-			hl_sleep_until(hl_monotonic_ns() + 200000000, NULL);
+			if (lv.pipe)
+				hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + 200000000);
 			code = 0;
 			break;
 		}
-		if (poll(pfd, lv.gpio && pfd[1].fd >= 0 ? 2 : 1, 200) <= 0)
+		if (poll(pfd, 3, lv.pipe ? 200 : 100) <= 0)
 			continue;
+		if (pfd[2].revents & POLLIN)
+			hl_ring_wait(lv.ring, 0); /* reset: the next turn pops what came */
 		if (pfd[1].revents & POLLIN) {
 			unsigned edges = 0;
 			char path[1024];
 
 			if (hl_gpio_read_trigger(lv.gpio, &edges) == 0 && edges > 0)
-				hl_live_capture(&lv, path, sizeof(path));
+				capture(&lv, path, sizeof(path));
 		}
 		if (!(pfd[0].revents & POLLIN) || read(sfd, &si, sizeof(si)) != sizeof(si))
 			continue;
@@ -639,15 +702,17 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		} else if (si.ssi_signo == SIGUSR1) {
 			char path[1024];
 
-			hl_live_capture(&lv, path, sizeof(path));
+			capture(&lv, path, sizeof(path));
 		} else {
-			log_msg("%s: stopping", strsignal((int)si.ssi_signo));
+			if (lv.pipe)
+				log_msg("%s: stopping", strsignal((int)si.ssi_signo));
 			code = 0;
 			break;
 		}
 	}
-	hl_notify_stopping();
-	if (rc == 0) {
+	if (args->render)
+		hl_notify_stopping();
+	if (rc == 0 && lv.pipe) {
 		/* quiesce, then report: the counters no longer move */
 		hl_can_input_stop(lv.in);
 		hl_frame_pool_close(lv.pool);
@@ -656,8 +721,13 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		hl_pipeline_stop(lv.pipe);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);
-		if (hl_live_status_json(&lv, buf, sizeof(buf)) > 0)
+		if (hl_status_json(lv.status, buf, sizeof(buf)) > 0)
 			printf("%s\n", buf);
+	} else if (rc == 0) {
+		hl_can_input_stop(lv.in); /* joined: everything it pushed is in the ring */
+		if (!done)
+			print_pending(&lv);
+		summary(lv.a, lv.ring, lv.in);
 	}
 	teardown(&lv);
 	if (sfd >= 0)

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "daemon/pipeline.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <malloc.h>
 #include <math.h>
@@ -13,28 +14,31 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "daemon/clock.h"
 #include "render/egl.h"
-#include "render/frame_exr.h"
+#include "render/pixel.h"
 #include "render/renderer.h"
 #include "render/view.h"
 #include "render/workers.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
 
+/* The render time histogram's bucket bounds, ms (le; +Inf implied). */
+static const double render_ms_bounds[] = { 1, 2, 5, 10, 20, 50, 100 };
+
 struct hl_pipeline {
 	struct hl_config cfg;
-	struct hl_lid *lids[2];
+	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
+	struct hl_source_scale *scales[HL_FRAME_MAX_LAMPS]; /* n_sources each */
 	int n_lamps;
 	struct hl_ring *ring;
-	int wake_fd;
 	struct hl_frame_pool *pool;
 	struct hl_pipeline_hooks hooks;
 
 	/* live settings, changed by reload under the lock */
 	pthread_mutex_t lock;
 	enum hl_failsafe failsafe;
-	uint8_t *failsafe_dims[2];
+	uint8_t *failsafe_dims[HL_FRAME_MAX_LAMPS];
 	double exposure_ev;
 	struct hl_pipeline_counts c;
 
@@ -49,7 +53,7 @@ struct hl_pipeline {
 	enum hl_view_kind view;
 	struct hl_view_lux_opts lux_opts;
 	char describe[256];
-	uint64_t last_seq[2]; /* each lamp's cycle in the last frame rendered */
+	uint64_t last_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's cycle in the last frame rendered */
 
 	pthread_t thread;
 	bool started;
@@ -60,8 +64,9 @@ struct hl_pipeline {
 	char start_err[512];
 };
 
-int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
-		    const uint8_t *const failsafe_dims[2], struct hl_ring *ring, int wake_fd,
+int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
+		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
+		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
 		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
 		    struct hl_pipeline **ret)
 {
@@ -73,7 +78,6 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], i
 	p->cfg = *cfg;
 	p->n_lamps = n_lamps;
 	p->ring = ring;
-	p->wake_fd = wake_fd;
 	p->pool = pool;
 	if (hooks)
 		p->hooks = *hooks;
@@ -86,6 +90,14 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], i
 	rc = hl_snapshot_new(ring, &p->snap);
 	if (rc < 0)
 		goto err;
+	for (int l = 0; l < n_lamps; l++) {
+		p->scales[l] = malloc(sizeof(*p->scales[l]) * p->snap->n_sources);
+		if (!p->scales[l]) {
+			rc = -ENOMEM;
+			goto err;
+		}
+		memcpy(p->scales[l], scales[l], sizeof(*p->scales[l]) * p->snap->n_sources);
+	}
 	p->cur = calloc(p->snap->n_sources, sizeof(float));
 	p->lux = calloc((size_t)cfg->width * cfg->height, sizeof(float));
 	p->rgba = calloc((size_t)cfg->width * cfg->height * 4, sizeof(float));
@@ -99,6 +111,9 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], i
 		goto err;
 	}
 	p->view = rc;
+	rc = hl_prom_histogram_init(&p->c.render_ms, render_ms_bounds,
+				    (int)(sizeof(render_ms_bounds) / sizeof(render_ms_bounds[0])));
+	assert(rc == 0);
 	hl_view_lux_defaults(&p->lux_opts);
 	hl_pipeline_set_failsafe(p, cfg->failsafe, failsafe_dims);
 	*ret = p;
@@ -117,15 +132,17 @@ void hl_pipeline_free(struct hl_pipeline *p)
 	free(p->cur);
 	free(p->lux);
 	free(p->rgba);
-	free(p->failsafe_dims[0]);
-	free(p->failsafe_dims[1]);
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
+		free(p->scales[l]);
+		free(p->failsafe_dims[l]);
+	}
 	pthread_cond_destroy(&p->up);
 	pthread_mutex_destroy(&p->lock);
 	free(p);
 }
 
 void hl_pipeline_set_failsafe(struct hl_pipeline *p, enum hl_failsafe mode,
-			      const uint8_t *const dims[2])
+			      const uint8_t *const dims[HL_FRAME_MAX_LAMPS])
 {
 	pthread_mutex_lock(&p->lock);
 	p->failsafe = mode;
@@ -175,7 +192,7 @@ static int setup(struct hl_pipeline *p)
 {
 	struct hl_egl_error eerr = { "" };
 	struct hl_renderer_config rc_cfg = { 0 };
-	struct hl_lamp_pose poses[2];
+	struct hl_lamp_pose poses[HL_FRAME_MAX_LAMPS];
 	int kind, rc;
 
 	rc = hl_egl_new(&p->egl, &eerr);
@@ -253,22 +270,16 @@ static void teardown(struct hl_pipeline *p)
 
 static void record_time(struct hl_pipeline *p, double ms, bool published, uint32_t flags)
 {
-	static const double edges[7] = { 1, 2, 5, 10, 20, 50, 100 };
-	int b = 0;
-
-	while (b < 7 && ms > edges[b])
-		b++;
 	pthread_mutex_lock(&p->lock);
 	p->c.render_ms_last = ms;
 	if (ms > p->c.render_ms_max)
 		p->c.render_ms_max = ms;
-	p->c.render_ms_buckets[b]++;
-	p->c.render_ms_sum += ms;
+	hl_prom_histogram_observe(&p->c.render_ms, ms);
 	if (published)
 		p->c.frames++;
 	else
 		p->c.not_published++;
-	for (int l = 0; l < 2; l++)
+	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++)
 		if (flags & HL_FRAME_FAILSAFE(l))
 			p->c.failsafe_frames[l]++;
 	pthread_mutex_unlock(&p->lock);
@@ -287,12 +298,20 @@ static void display_band(void *userdata, const float *lux, size_t first, size_t 
 	hl_view_display_range(j->gb, lux, j->exposure_ev, first, count, j->rgb);
 }
 
+/* The raw value a signal of this scale carries for relative current i (nearest step). */
+static uint8_t raw_of(const struct hl_source_scale *s, float i)
+{
+	const long r = lround(((double)i - s->offset) / s->factor);
+
+	return r < 0 ? 0 : r > UINT8_MAX ? UINT8_MAX : (uint8_t)r;
+}
+
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
 	struct hl_frame *f = hl_frame_pool_acquire(p->pool);
 	const struct hl_snapshot *s = p->snap;
-	const int64_t t0 = hl_monotonic_ns();
+	const int64_t t0 = hl_clock_monotonic_ns();
 	uint32_t flags = 0;
 	enum hl_failsafe mode;
 	double ev;
@@ -308,15 +327,21 @@ static void render(struct hl_pipeline *p)
 				   !(s->lamps[l].status & HL_LAMP_VALID);
 
 		for (int k = 0; k < s->n_sources; k++) {
+			const struct hl_source_scale *sc = &p->scales[l][k];
 			float v = in[k];
+			uint8_t raw;
 
-			if (stale && mode == HL_FAILSAFE_DARK)
-				v = 0.0f;
-			else if (stale && mode == HL_FAILSAFE_PRESET && p->failsafe_dims[l])
-				v = (float)p->failsafe_dims[l][k] / 63.0f;
+			if (stale && mode == HL_FAILSAFE_PRESET && p->failsafe_dims[l]) {
+				raw = p->failsafe_dims[l][k];
+				v = (float)(raw * sc->factor + sc->offset);
+			} else {
+				if (stale && mode == HL_FAILSAFE_DARK)
+					v = 0.0f;
+				raw = raw_of(sc, v);
+			}
 			p->cur[k] = v;
 			if (f)
-				f->dims[l][k] = (uint8_t)lroundf(v * 63.0f);
+				f->dims[l][k] = raw;
 		}
 		if (stale)
 			flags |= HL_FRAME_STALE(l) | HL_FRAME_FAILSAFE(l);
@@ -347,7 +372,7 @@ static void render(struct hl_pipeline *p)
 
 			hl_view_hdr(p->gb, f->lux, p->rgba);
 			for (size_t i = 0; i < n; i++)
-				h[i] = hl_half_from_float(p->rgba[i]);
+				h[i] = hl_pixel_half_from_float(p->rgba[i]);
 			break;
 		}
 		default: /* display: done with the frame */
@@ -366,13 +391,11 @@ static void render(struct hl_pipeline *p)
 		f->hdr.t_cycle_rx_ns = s->lamps[newest].t_rx_first_ns;
 		f->hdr.t_cycle_done_ns = s->t_push_ns;
 		f->hdr.t_render_start_ns = t0;
-		f->hdr.t_render_done_ns = hl_monotonic_ns();
+		f->hdr.t_render_done_ns = hl_clock_monotonic_ns();
 		f->hdr.t_sent_ns = 0;
-		hl_frame_pool_publish(p->pool, f);
-		if (p->hooks.published)
-			p->hooks.published(p->hooks.userdata, f);
+		hl_frame_pool_publish(p->pool, f); /* and the pool wakes its subscribers */
 	}
-	record_time(p, (double)(hl_monotonic_ns() - t0) / 1e6, f != NULL, flags);
+	record_time(p, (double)(hl_clock_monotonic_ns() - t0) / 1e6, f != NULL, flags);
 }
 
 /*
@@ -399,19 +422,17 @@ static bool other_lamp_due(const struct hl_pipeline *p)
 /* Waits up to coalesce_ns for the other lamp's cycle (render.coalesce_ms), taking the newest. */
 static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
 {
-	const int64_t until = hl_monotonic_ns() + coalesce_ns;
+	const int64_t until = hl_clock_monotonic_ns() + coalesce_ns;
 
 	while (other_lamp_due(p) && !atomic_load(&p->stop)) {
-		const int64_t left = until - hl_monotonic_ns();
-		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
+		const int64_t left = until - hl_clock_monotonic_ns();
+		struct pollfd pfd = { .fd = hl_ring_wake_fd(p->ring), .events = POLLIN };
 		struct timespec ts = { left / 1000000000, left % 1000000000 };
-		uint64_t wakes;
 
 		if (left <= 0)
 			break;
-		if (ppoll(&pfd, 1, &ts, NULL) > 0 && read(p->wake_fd, &wakes, sizeof(wakes)) < 0) {
-			/* reset lost: the next ppoll returns at once */
-		}
+		if (ppoll(&pfd, 1, &ts, NULL) > 0)
+			hl_ring_wait(p->ring, 0); /* reset */
 		hl_ring_take_newest(p->ring, p->snap);
 	}
 }
@@ -421,7 +442,7 @@ static void *thread_main(void *arg)
 	struct hl_pipeline *p = arg;
 	const int64_t period_ns = p->cfg.rate_hz > 0 ? (int64_t)(1e9 / p->cfg.rate_hz) : 0;
 	const int64_t coalesce_ns = (int64_t)(p->cfg.coalesce_ms * 1e6);
-	int64_t next_ns = hl_monotonic_ns();
+	int64_t next_ns = hl_clock_monotonic_ns();
 	bool have = false;
 	int rc = setup(p);
 
@@ -434,28 +455,24 @@ static void *thread_main(void *arg)
 		return NULL;
 	}
 	while (!atomic_load(&p->stop)) {
-		struct pollfd pfd = { .fd = p->wake_fd, .events = POLLIN };
 		int timeout_ms = IDLE_WAKE_MS;
-		uint64_t wakes;
 		bool fresh;
 
 		if (p->hooks.alive)
 			p->hooks.alive(p->hooks.userdata);
 		if (period_ns) {
-			const int64_t now = hl_monotonic_ns();
+			const int64_t now = hl_clock_monotonic_ns();
 
 			timeout_ms = next_ns > now ? (int)((next_ns - now) / 1000000) : 0;
 		}
-		if (poll(&pfd, 1, timeout_ms) > 0 && read(p->wake_fd, &wakes, sizeof(wakes)) < 0) {
-			/* reset lost: the next poll returns at once */
-		}
+		hl_ring_wait(p->ring, timeout_ms);
 		/* the newest complete state: what came in meanwhile is superseded (counted) */
 		fresh = hl_ring_take_newest(p->ring, p->snap);
 		have |= fresh;
 		if (!have)
 			continue;
 		if (period_ns) {
-			if (hl_monotonic_ns() < next_ns)
+			if (hl_clock_monotonic_ns() < next_ns)
 				continue;
 			next_ns += period_ns;
 			render(p);

@@ -5,8 +5,11 @@
  * applies each stale lamp's fail-safe (hold, dark or a preset), renders the scene, converts it
  * to the configured view in a frame from the pool and publishes it with its latency stamps.
  *
- * Thread-safety: start/stop/counts from the main thread; the rest runs on the render thread.
- * The callbacks run on the render thread and must not block.
+ * Thread-safety: new/start/stop/free and the live settings (set_failsafe, set_exposure) from
+ * the main thread; counts (locked) and describe, gbuffer, camera (fixed once started) from any
+ * thread; the rest runs on the render thread. The hook runs on the render thread and must not
+ * block. Published frames reach the outputs through the pool's subscribers; the ring's
+ * eventfd wakes the thread.
  */
 #ifndef HL_DAEMON_PIPELINE_H
 #define HL_DAEMON_PIPELINE_H
@@ -15,41 +18,50 @@
 
 #include "daemon/config.h"
 #include "daemon/frame_pool.h"
+#include "daemon/prom.h"
 #include "daemon/ring.h"
 #include "lamp/lid.h"
 #include "render/scene.h"
 
 struct hl_pipeline_hooks {
 	void *userdata;
-	void (*published)(void *userdata, const struct hl_frame *f); /* after every publish */
 	void (*alive)(void *userdata); /* once per loop turn: the watchdog */
 };
 
 struct hl_pipeline_counts {
 	uint64_t frames; /* rendered and published */
 	uint64_t not_published; /* rendered, but every pool frame was held by readers */
-	uint64_t failsafe_frames[2]; /* frames with the lamp's fail-safe active */
+	uint64_t failsafe_frames[HL_FRAME_MAX_LAMPS]; /* frames with the lamp's fail-safe active */
 	/*
 	 * Complete cycles of the lamp that no rendered frame showed: the lamp's cycle_seq moved on
 	 * by more than one between two frames (the render thread was busy for two of its cycles),
 	 * or cycles came before the first frame. Superseded ring snapshots are not lost cycles as
 	 * long as the newer snapshot carries each lamp's next cycle: this counts what was lost.
 	 */
-	uint64_t cycles_not_rendered[2];
+	uint64_t cycles_not_rendered[HL_FRAME_MAX_LAMPS];
 	double render_ms_last, render_ms_max;
-	/* render time histogram, ms: <= 1, 2, 5, 10, 20, 50, 100, +inf */
-	uint64_t render_ms_buckets[8];
-	double render_ms_sum;
+	struct hl_prom_histogram render_ms; /* render time, ms (bounds: hl_pipeline_new) */
+};
+
+/*
+ * How a source's relative current and the raw value its DBC signal carries map onto each other:
+ * i = raw * factor + offset (the signal's factor and offset), so the frame carries the raw
+ * values the ECU sent, whatever the database's scale.
+ */
+struct hl_source_scale {
+	double factor, offset;
 };
 
 struct hl_pipeline;
 
 /*
- * failsafe_dims: per lamp the preset's raw values (n_sources each) for HL_FAILSAFE_PRESET, else
- * NULL. lids must outlive the pipeline. 0, -errno.
+ * scales: per lamp, n_sources entries (the ring's), copied. failsafe_dims: per lamp the preset's
+ * raw values (n_sources each) for HL_FAILSAFE_PRESET, else NULL. lids must outlive the
+ * pipeline. 0, -errno.
  */
-int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[2], int n_lamps,
-		    const uint8_t *const failsafe_dims[2], struct hl_ring *ring, int wake_fd,
+int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
+		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
+		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
 		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
 		    struct hl_pipeline **ret);
 void hl_pipeline_free(struct hl_pipeline *p);
@@ -68,7 +80,7 @@ const struct hl_gbuffer *hl_pipeline_gbuffer(const struct hl_pipeline *p);
 const struct hl_camera *hl_pipeline_camera(const struct hl_pipeline *p);
 /* Live settings a reload may change. */
 void hl_pipeline_set_failsafe(struct hl_pipeline *p, enum hl_failsafe mode,
-			      const uint8_t *const dims[2]);
+			      const uint8_t *const dims[HL_FRAME_MAX_LAMPS]);
 void hl_pipeline_set_exposure(struct hl_pipeline *p, double ev);
 void hl_pipeline_counts(struct hl_pipeline *p, struct hl_pipeline_counts *ret);
 

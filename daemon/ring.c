@@ -2,9 +2,12 @@
 #include "daemon/ring.h"
 
 #include <errno.h>
+#include <poll.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 /* A slot's state word: sequence number << 2 | owner tag. */
 enum tag {
@@ -28,6 +31,7 @@ struct hl_ring {
 	int n_lamps, n_sources;
 	struct slot *slots;
 	float *pool;
+	int wake_fd; /* an eventfd: the producer writes after each push, the consumer polls it */
 	_Alignas(64) _Atomic uint64_t head; /* snapshots pushed; written by the producer only */
 	_Alignas(64) uint64_t tail; /* next snapshot the consumer wants; consumer only */
 	_Atomic uint64_t consumed, superseded, dropped; /* written by the consumer only */
@@ -44,6 +48,13 @@ int hl_ring_new(unsigned slots, int n_lamps, int n_sources, struct hl_ring **ret
 	r = calloc(1, sizeof(*r));
 	if (!r)
 		return -ENOMEM;
+	r->wake_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+	if (r->wake_fd < 0) {
+		const int err = errno;
+
+		free(r);
+		return -err;
+	}
 	r->n_slots = slots;
 	r->n_lamps = n_lamps;
 	r->n_sources = n_sources;
@@ -69,6 +80,7 @@ void hl_ring_free(struct hl_ring *ring)
 {
 	if (!ring)
 		return;
+	close(ring->wake_fd);
 	free(ring->slots);
 	free(ring->pool);
 	free(ring);
@@ -142,6 +154,10 @@ void hl_ring_push(struct hl_ring *r, struct hl_snapshot *s)
 			atomic_store_explicit(&r->slots[best].state, STATE(n, READY),
 					      memory_order_release);
 			atomic_store_explicit(&r->head, n + 1, memory_order_release);
+			/* an eventfd write does not block while its counter is far from the max; a
+			 * failed one only delays the consumer to its own timeout */
+			if (write(r->wake_fd, &(uint64_t){ 1 }, sizeof(uint64_t)) < 0) {
+			}
 			return;
 		}
 	}
@@ -238,4 +254,19 @@ uint64_t hl_ring_pending(const struct hl_ring *r)
 unsigned hl_ring_slots(const struct hl_ring *r)
 {
 	return r->n_slots;
+}
+
+int hl_ring_wake_fd(const struct hl_ring *ring)
+{
+	return ring->wake_fd;
+}
+
+void hl_ring_wait(struct hl_ring *ring, int timeout_ms)
+{
+	struct pollfd pfd = { .fd = ring->wake_fd, .events = POLLIN };
+	uint64_t wakes;
+
+	if (poll(&pfd, 1, timeout_ms) > 0 && read(ring->wake_fd, &wakes, sizeof(wakes)) < 0) {
+		/* reset lost: the next wait returns at once */
+	}
 }

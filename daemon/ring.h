@@ -5,8 +5,11 @@
  * all allocated at start.
  *
  * Ownership: the CAN thread is the only caller of hl_ring_push(); the render thread is the
- * only caller of hl_ring_take_newest() / hl_ring_pop(). hl_ring_counts() may be called from
- * any thread. Nothing else is thread-safe.
+ * only caller of hl_ring_take_newest() / hl_ring_pop() / hl_ring_wait(). hl_ring_counts() and
+ * hl_ring_wake_fd() may be called from any thread. Nothing else is thread-safe.
+ *
+ * The ring owns an eventfd that every push makes readable: the consumer sleeps on it
+ * (hl_ring_wait, or poll the fd with others and call hl_ring_wait(ring, 0) to reset it).
  *
  * Each slot has a state word (its snapshot's sequence number and who owns it: empty, being
  * written, ready, being read) that the two threads change only by compare-and-swap, so a slot's
@@ -25,7 +28,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#define HL_RING_MAX_LAMPS 8
+#include "can/assembler.h"
+
+/* a snapshot carries every lamp the assembler decodes */
+#define HL_RING_MAX_LAMPS HL_ASM_MAX_LAMPS
 
 /* Per-lamp status bits of a snapshot. */
 #define HL_LAMP_VALID 0x1u /* at least one complete cycle seen */
@@ -67,7 +73,7 @@ void hl_ring_free(struct hl_ring *ring);
 int hl_snapshot_new(const struct hl_ring *ring, struct hl_snapshot **ret);
 void hl_snapshot_free(struct hl_snapshot *s);
 
-/* Producer: copies s in (s->seq is set), never blocks, never allocates. */
+/* Producer: copies s in (s->seq is set) and wakes the consumer; never blocks, never allocates. */
 void hl_ring_push(struct hl_ring *ring, struct hl_snapshot *s);
 
 /*
@@ -82,5 +88,10 @@ void hl_ring_counts(const struct hl_ring *ring, struct hl_ring_counts *ret);
 /* Snapshots pushed that the consumer has not reached yet (any thread; a snapshot in time). */
 uint64_t hl_ring_pending(const struct hl_ring *ring);
 unsigned hl_ring_slots(const struct hl_ring *ring);
+
+/* The eventfd a push makes readable (owned by the ring; poll it, do not read or close it). */
+int hl_ring_wake_fd(const struct hl_ring *ring);
+/* Consumer: waits up to timeout_ms (0: not at all, -1: forever) for a push and resets the fd. */
+void hl_ring_wait(struct hl_ring *ring, int timeout_ms);
 
 #endif

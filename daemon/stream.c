@@ -17,7 +17,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "can/candump_log.h"
+#include "daemon/clock.h"
 
 #define MAX_CLIENTS 64
 #define POLL_MS 100
@@ -39,6 +39,7 @@ struct client {
 
 struct hl_stream {
 	struct hl_frame_pool *pool;
+	bool subscribed; /* to the pool's published frames */
 	bool raw;
 	int max_clients;
 	int tcp_fd, unix_fd, wake_fd, tcp_port;
@@ -119,6 +120,13 @@ static int listen_unix(const char *path, char *err, size_t err_size)
 	return fd;
 }
 
+/* The pool's subscriber: every published frame wakes the stream thread. */
+static void on_published(void *userdata, const struct hl_frame *f)
+{
+	(void)f;
+	hl_stream_wake(userdata);
+}
+
 int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clients,
 		  struct hl_frame_pool *pool, struct hl_stream **ret, char *err, size_t err_size)
 {
@@ -167,6 +175,12 @@ int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clie
 		}
 		snprintf(s->unix_path, sizeof(s->unix_path), "%s", unix_path);
 	}
+	if (hl_frame_pool_subscribe(pool, on_published, s) < 0) {
+		snprintf(err, err_size, "stream: the frame pool has no room for a subscriber");
+		hl_stream_free(s);
+		return -ENOSPC;
+	}
+	s->subscribed = true;
 	*ret = s;
 	return 0;
 }
@@ -193,6 +207,8 @@ void hl_stream_free(struct hl_stream *s)
 {
 	if (!s)
 		return;
+	if (s->subscribed)
+		hl_frame_pool_unsubscribe(s->pool, on_published, s);
 	hl_stream_stop(s);
 	for (int i = 0; i < MAX_CLIENTS; i++)
 		if (s->clients[i].fd >= 0)
@@ -249,7 +265,7 @@ static void load_frame(struct hl_stream *s, struct client *c)
 	if (!f)
 		return;
 	h = f->hdr;
-	h.t_sent_ns = hl_monotonic_ns();
+	h.t_sent_ns = hl_clock_monotonic_ns();
 	c->frame = f;
 	c->hdr = h;
 	c->len = (s->raw ? 0 : sizeof(h)) + h.payload_size;

@@ -6,8 +6,11 @@
  * published skips to the newest (counted); it never holds a pool frame while it reads, so it
  * cannot delay the renderer or other clients, and its memory is one frame, fixed at accept.
  *
+ * The stream subscribes to the pool: every published frame wakes it (hl_stream_new to
+ * hl_stream_free).
+ *
  * Thread-safety: new/start/stop/free/counts from the main thread; hl_stream_wake from any
- * thread (the render thread calls it after each publish). The stream runs its own thread.
+ * thread. The stream runs its own thread.
  */
 #ifndef HL_DAEMON_STREAM_H
 #define HL_DAEMON_STREAM_H

@@ -10,6 +10,7 @@
 #include <openexr.h>
 
 #include "lamp/exr_error.h"
+#include "render/pixel.h"
 
 /* What a context's user data points to: the last message, and the memory sink if any. */
 struct exr_msg {
@@ -21,44 +22,6 @@ struct mem_sink {
 	uint8_t *data;
 	size_t size, cap;
 };
-
-uint16_t hl_half_from_float(float f)
-{
-	uint32_t x, sign, mant;
-	int32_t exp;
-
-	memcpy(&x, &f, sizeof(x));
-	sign = (x >> 16) & 0x8000u;
-	exp = (int32_t)((x >> 23) & 0xff) - 127 + 15;
-	mant = x & 0x7fffffu;
-	if (((x >> 23) & 0xff) == 0xff) /* inf, nan */
-		return (uint16_t)(sign | 0x7c00u | (mant ? 0x200u : 0));
-	if (exp >= 31)
-		return (uint16_t)(sign | 0x7c00u);
-	if (exp <= 0) {
-		uint32_t m, shift, half, rounded;
-
-		if (exp < -10)
-			return (uint16_t)sign;
-		m = mant | 0x800000u;
-		shift = (uint32_t)(14 - exp);
-		half = 1u << (shift - 1);
-		rounded = m >> shift;
-		if ((m & ((1u << shift) - 1)) > half ||
-		    ((m & ((1u << shift) - 1)) == half && (rounded & 1)))
-			rounded++;
-		return (uint16_t)(sign | rounded);
-	}
-	{
-		uint32_t h = sign | ((uint32_t)exp << 10) | (mant >> 13);
-		const uint32_t rest = mant & 0x1fffu;
-
-		/* Round to nearest even; a carry into the exponent is still correct. */
-		if (rest > 0x1000u || (rest == 0x1000u && (h & 1)))
-			h++;
-		return (uint16_t)h;
-	}
-}
 
 struct channel {
 	const char *name;
@@ -238,7 +201,7 @@ int hl_frame_exr_write_hdr(const char *path, int width, int height, const float 
 	if (!half)
 		return hl_exr_fail(err, -ENOMEM, path, "out of memory");
 	for (size_t i = 0; i < n; i++)
-		half[i] = hl_half_from_float(rgba[i]);
+		half[i] = hl_pixel_half_from_float(rgba[i]);
 	for (int c = 0; c < 4; c++)
 		ch[c] = (struct channel){ names[c], EXR_PIXEL_HALF, half + c, 8 };
 	rc = write_file(path, width, height, ch, 4, info, "cd/m2", err, NULL);

@@ -46,7 +46,4 @@ int hl_frame_exr_encode_lux(int width, int height, const float *lux,
 			    const struct hl_frame_exr_info *info, uint8_t **ret_data,
 			    size_t *ret_size, struct hl_lid_error *err);
 
-/* IEEE binary16 of f, rounded to nearest even; overflow gives infinity. */
-uint16_t hl_half_from_float(float f);
-
 #endif

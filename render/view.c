@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "render/font.h"
+#include "render/pixel.h"
 #include "render/plot.h"
 
 #define LUT_SIZE 16384 /* display tone-map table: < 0.25 sRGB levels per step, fits L1 */
@@ -57,12 +58,6 @@ void hl_view_hdr(const struct hl_gbuffer *gb, const float *lux, float *ret)
 	}
 }
 
-static uint8_t srgb8(float x)
-{
-	x = x <= 0.0031308f ? 12.92f * x : 1.055f * powf(x, 1.0f / 2.4f) - 0.055f;
-	return (uint8_t)lrintf(255.0f * (x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x)));
-}
-
 void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double exposure_ev,
 		     uint8_t *ret)
 {
@@ -83,7 +78,7 @@ void hl_view_display_range(const struct hl_gbuffer *gb, const float *lux, double
 	 * that the dark end, where sRGB is steepest (12.92), moves less than a level per step.
 	 */
 	for (int i = 0; !lut_ready && i < LUT_SIZE; i++)
-		lut[i] = srgb8((i + 0.5f) / LUT_SIZE);
+		lut[i] = hl_pixel_srgb8((i + 0.5f) / LUT_SIZE);
 	lut_ready = true;
 	for (size_t i = first; i < n; i++) {
 		const float x = gb->albedo[i] * lux[i] * scale;

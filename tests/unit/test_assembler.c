@@ -99,6 +99,21 @@ static void assembler_plans_both_lamps_from_the_dbc(void **state)
 	assert_true(hl_assembler_ids(f->a, ids, 8) >= 2);
 }
 
+static void assembler_names_each_sources_signal(void **state)
+{
+	struct fixture *f = *state;
+	const struct hl_dbc_signal *s = hl_assembler_source_signal(f->a, 0, 0);
+
+	assert_non_null(s);
+	assert_string_equal(s->name, "LED_001");
+	assert_int_equal(s->length, 6);
+	assert_true(s->factor == 1.0 / 63.0 && s->offset == 0.0);
+	assert_non_null(hl_assembler_source_signal(f->a, 1, 94));
+	assert_null(hl_assembler_source_signal(f->a, 1, 95));
+	assert_null(hl_assembler_source_signal(f->a, 2, 0));
+	assert_null(hl_assembler_source_signal(f->a, 0, -1));
+}
+
 static void assembler_cycles_round_trip_exactly(void **state)
 {
 	struct fixture *f = *state;
@@ -347,6 +362,8 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(assembler_plans_both_lamps_from_the_dbc,
 						setup_classic, teardown),
+		cmocka_unit_test_setup_teardown(assembler_names_each_sources_signal, setup_classic,
+						teardown),
 		cmocka_unit_test_setup_teardown(assembler_cycles_round_trip_exactly, setup_classic,
 						teardown),
 		cmocka_unit_test_setup_teardown(assembler_counts_each_injected_fault_once,

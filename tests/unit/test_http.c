@@ -27,6 +27,7 @@
 #include <turbojpeg.h>
 
 #include "daemon/http.h"
+#include "render/pixel.h"
 #include "testutil.h"
 
 #define W 320
@@ -646,8 +647,8 @@ static void http_hdr_frames_are_tone_mapped(void **state)
 		uint16_t *px = (uint16_t *)f->pixels + 4 * i;
 
 		for (int c = 0; c < 3; c++)
-			px[c] = hl_half_from_float(lum[i % 4]);
-		px[3] = hl_half_from_float(1.0f);
+			px[c] = hl_pixel_half_from_float(lum[i % 4]);
+		px[3] = hl_pixel_half_from_float(1.0f);
 	}
 	hl_frame_pool_publish(pool, f);
 	check(hl_http_port(http), "GET", "/frame.png", 200, "image/png", &r);

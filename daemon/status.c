@@ -1,0 +1,228 @@
+/* SPDX-License-Identifier: MIT */
+#include "daemon/status.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "daemon/prom.h"
+
+struct hl_status {
+	struct hl_status_sources src;
+	pthread_mutex_t lock; /* guards what follows: the main thread writes, HTTP threads read */
+	enum hl_failsafe failsafe;
+	uint64_t reloads, captures, capture_errors;
+};
+
+int hl_status_new(const struct hl_status_sources *src, enum hl_failsafe failsafe,
+		  struct hl_status **ret)
+{
+	struct hl_status *st;
+
+	if (src->n_lamps < 1 || src->n_lamps > HL_RING_MAX_LAMPS || !src->lamp_names)
+		return -EINVAL;
+	st = calloc(1, sizeof(*st));
+	if (!st)
+		return -ENOMEM;
+	st->src = *src;
+	st->failsafe = failsafe;
+	pthread_mutex_init(&st->lock, NULL);
+	*ret = st;
+	return 0;
+}
+
+void hl_status_free(struct hl_status *st)
+{
+	if (!st)
+		return;
+	pthread_mutex_destroy(&st->lock);
+	free(st);
+}
+
+void hl_status_reloaded(struct hl_status *st, enum hl_failsafe failsafe)
+{
+	pthread_mutex_lock(&st->lock);
+	st->failsafe = failsafe;
+	st->reloads++;
+	pthread_mutex_unlock(&st->lock);
+}
+
+void hl_status_captured(struct hl_status *st, bool ok)
+{
+	pthread_mutex_lock(&st->lock);
+	if (ok)
+		st->captures++;
+	else
+		st->capture_errors++;
+	pthread_mutex_unlock(&st->lock);
+}
+
+/* Everything the status shows, each part copied under its owner's lock. */
+struct view {
+	struct hl_input_status in;
+	struct hl_pipeline_counts pc;
+	struct hl_stream_counts sc;
+	struct hl_ring_counts rc;
+	struct hl_frame_pool_counts fc;
+	enum hl_failsafe failsafe;
+	uint64_t reloads, captures;
+};
+
+static void take(struct hl_status *st, struct view *v)
+{
+	const struct hl_status_sources *s = &st->src;
+
+	*v = (struct view){ .in.link_up = false };
+	if (s->in)
+		hl_can_input_status(s->in, &v->in);
+	if (s->pipe)
+		hl_pipeline_counts(s->pipe, &v->pc);
+	if (s->stream)
+		hl_stream_counts(s->stream, &v->sc);
+	if (s->ring)
+		hl_ring_counts(s->ring, &v->rc);
+	if (s->pool)
+		hl_frame_pool_counts(s->pool, &v->fc);
+	pthread_mutex_lock(&st->lock);
+	v->failsafe = st->failsafe;
+	v->reloads = st->reloads;
+	v->captures = st->captures;
+	pthread_mutex_unlock(&st->lock);
+}
+
+static const char *failsafe_name(enum hl_failsafe m)
+{
+	return m == HL_FAILSAFE_HOLD ? "hold" : m == HL_FAILSAFE_DARK ? "dark" : "preset";
+}
+
+int hl_status_json(struct hl_status *st, char *buf, size_t size)
+{
+	const struct hl_status_sources *s = &st->src;
+	FILE *f = fmemopen(buf, size, "w");
+	struct view v;
+	long n;
+
+	if (!f)
+		return -errno;
+	take(st, &v);
+	fprintf(f,
+		"{\"renderer\":\"%s\",\"input\":{\"source\":\"%s\",\"link\":\"%s\",\"bus\":\"%s\"},\"lamps\":[",
+		s->pipe ? hl_pipeline_describe(s->pipe) : "off", s->input_name,
+		v.in.link_up ? "up" : "down", v.in.bus);
+	for (int l = 0; l < s->n_lamps; l++) {
+		const struct hl_lamp_counters *c = &v.in.lamps[l];
+		/* the renderer's counts exist for the lamps it lights */
+		const uint64_t fs = l < HL_FRAME_MAX_LAMPS ? v.pc.failsafe_frames[l] : 0;
+		const uint64_t nr = l < HL_FRAME_MAX_LAMPS ? v.pc.cycles_not_rendered[l] : 0;
+
+		fprintf(f,
+			"%s{\"name\":\"%s\",\"stale\":%s,\"failsafe\":%s,\"cycles\":%" PRIu64
+			",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
+			",\"lost_cycles\":%" PRIu64 ",\"repeated_frames\":%" PRIu64
+			",\"stale_events\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64
+			",\"cycles_not_rendered\":%" PRIu64 "}",
+			l ? "," : "", s->lamp_names[l], v.in.stale[l] ? "true" : "false",
+			v.in.stale[l] ? "true" : "false", c->cycles, c->crc_errors, c->incomplete,
+			c->lost_cycles, c->repeated_frames, c->stale_events, fs, nr);
+	}
+	fprintf(f,
+		"],\"failsafe_mode\":\"%s\",\"frames\":{\"rendered\":%" PRIu64
+		",\"published\":%" PRIu64 ",\"not_published\":%" PRIu64
+		",\"render_ms_last\":%.3f,\"render_ms_max\":%.3f},"
+		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
+		",\"dropped\":%" PRIu64 "},\"stream\":{\"clients\":%" PRIu64
+		",\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64 "},\"captures\":%" PRIu64
+		",\"reloads\":%" PRIu64,
+		failsafe_name(v.failsafe), v.pc.frames + v.pc.not_published, v.fc.published,
+		v.pc.not_published, v.pc.render_ms_last, v.pc.render_ms_max, v.rc.pushed,
+		v.rc.consumed, v.rc.superseded, v.rc.dropped, v.sc.clients, v.sc.frames_sent,
+		v.sc.frames_skipped, v.captures, v.reloads);
+	if (s->gpio) {
+		struct hl_gpio_counts gc;
+
+		hl_gpio_counts(s->gpio, &gc);
+		fprintf(f,
+			",\"gpio\":{\"strobe_toggles\":%" PRIu64 ",\"strobe_errors\":%" PRIu64
+			",\"trigger_edges\":%" PRIu64 ",\"trigger_lost\":%" PRIu64 "}",
+			gc.strobe_toggles, gc.strobe_errors, gc.trigger_edges, gc.trigger_lost);
+	}
+	fputc('}', f);
+	n = ftell(f);
+	fclose(f);
+	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
+}
+
+/* One counter family with a sample per lamp. */
+static void lamp_counter(struct hl_prom *p, const struct hl_status_sources *s, const char *name,
+			 const char *help, const uint64_t *values, size_t stride)
+{
+	hl_prom_family(p, name, HL_PROM_COUNTER, help);
+	for (int l = 0; l < s->n_lamps; l++)
+		hl_prom_counter(p, name, (const char *const[]){ "lamp", s->lamp_names[l], NULL },
+				*(const uint64_t *)((const char *)values + (size_t)l * stride));
+}
+
+int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
+{
+	const struct hl_status_sources *s = &st->src;
+	const size_t lc = sizeof(struct hl_lamp_counters);
+	struct hl_prom p;
+	struct view v;
+
+	take(st, &v);
+	hl_prom_init(&p, buf, size);
+	lamp_counter(&p, s, "hdlamp_cycles_total", "Complete lamp cycles.", &v.in.lamps[0].cycles,
+		     lc);
+	lamp_counter(&p, s, "hdlamp_crc_errors_total", "Frames dropped for a wrong E2E CRC.",
+		     &v.in.lamps[0].crc_errors, lc);
+	lamp_counter(&p, s, "hdlamp_incomplete_cycles_total",
+		     "Cycles abandoned for a missing part.", &v.in.lamps[0].incomplete, lc);
+	lamp_counter(&p, s, "hdlamp_lost_cycles_total", "Alive counter values never seen.",
+		     &v.in.lamps[0].lost_cycles, lc);
+	lamp_counter(&p, s, "hdlamp_duplicate_frames_total", "Repeated frames ignored.",
+		     &v.in.lamps[0].repeated_frames, lc);
+	lamp_counter(&p, s, "hdlamp_stale_events_total", "Times the lamp became stale.",
+		     &v.in.lamps[0].stale_events, lc);
+	hl_prom_family(&p, "hdlamp_cycles_not_rendered_total", HL_PROM_COUNTER,
+		       "Complete cycles no rendered frame showed.");
+	for (int l = 0; l < s->n_lamps && l < HL_FRAME_MAX_LAMPS; l++)
+		hl_prom_counter(&p, "hdlamp_cycles_not_rendered_total",
+				(const char *const[]){ "lamp", s->lamp_names[l], NULL },
+				v.pc.cycles_not_rendered[l]);
+	hl_prom_family(&p, "hdlamp_lamp_stale", HL_PROM_GAUGE,
+		       "Whether the lamp is stale (fail-safe active).");
+	for (int l = 0; l < s->n_lamps; l++)
+		hl_prom_gauge(&p, "hdlamp_lamp_stale",
+			      (const char *const[]){ "lamp", s->lamp_names[l], NULL },
+			      v.in.stale[l] ? 1 : 0);
+	hl_prom_family(&p, "hdlamp_bus_state", HL_PROM_GAUGE,
+		       "The CAN input's state (1 for the current one).");
+	hl_prom_gauge(&p, "hdlamp_bus_state", (const char *const[]){ "state", v.in.bus, NULL }, 1);
+	hl_prom_family(&p, "hdlamp_link_up", HL_PROM_GAUGE, "Whether the CAN input is open.");
+	hl_prom_gauge(&p, "hdlamp_link_up", NULL, v.in.link_up ? 1 : 0);
+	hl_prom_family(&p, "hdlamp_ring_snapshots_total", HL_PROM_COUNTER,
+		       "Ring snapshots by fate.");
+	hl_prom_counter(&p, "hdlamp_ring_snapshots_total",
+			(const char *const[]){ "fate", "consumed", NULL }, v.rc.consumed);
+	hl_prom_counter(&p, "hdlamp_ring_snapshots_total",
+			(const char *const[]){ "fate", "superseded", NULL }, v.rc.superseded);
+	hl_prom_counter(&p, "hdlamp_ring_snapshots_total",
+			(const char *const[]){ "fate", "dropped", NULL }, v.rc.dropped);
+	hl_prom_family(&p, "hdlamp_kernel_drops_total", HL_PROM_COUNTER,
+		       "Frames the kernel dropped (SO_RXQ_OVFL).");
+	hl_prom_counter(&p, "hdlamp_kernel_drops_total", NULL, v.in.kernel_drops);
+	hl_prom_family(&p, "hdlamp_frames_total", HL_PROM_COUNTER,
+		       "Frames rendered and published.");
+	hl_prom_counter(&p, "hdlamp_frames_total", NULL, v.pc.frames);
+	hl_prom_family(&p, "hdlamp_stream_frames_skipped_total", HL_PROM_COUNTER,
+		       "Frames slow stream clients skipped.");
+	hl_prom_counter(&p, "hdlamp_stream_frames_skipped_total", NULL, v.sc.frames_skipped);
+	if (s->pipe) {
+		hl_prom_family(&p, "hdlamp_render_ms", HL_PROM_HISTOGRAM,
+			       "Time to render a frame (ms).");
+		hl_prom_histogram(&p, "hdlamp_render_ms", NULL, &v.pc.render_ms);
+	}
+	return hl_prom_end(&p);
+}

@@ -1,0 +1,56 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The daemon's status for other threads: the /status JSON (also printed at exit) and the
+ * /metrics text, read from the input's, ring's, renderer's, pool's and outputs' own counters,
+ * plus what only the main thread changes (the fail-safe mode a reload sets, the reload and
+ * capture counts), which it keeps under its own lock.
+ *
+ * Thread-safety: hl_status_json and hl_status_metrics from any thread (the HTTP server's);
+ * hl_status_reloaded and hl_status_captured from any thread; new and free from the main thread
+ * while no other thread uses the status.
+ */
+#ifndef HL_DAEMON_STATUS_H
+#define HL_DAEMON_STATUS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "daemon/can_input.h"
+#include "daemon/config.h"
+#include "daemon/frame_pool.h"
+#include "daemon/gpio.h"
+#include "daemon/pipeline.h"
+#include "daemon/ring.h"
+#include "daemon/stream.h"
+
+/* What the status reads; every pointer must outlive it. NULL: that part is off (zeros). */
+struct hl_status_sources {
+	const char *input_name; /* the interface or the replayed log */
+	int n_lamps;
+	const char *const *lamp_names;
+	struct hl_can_input *in;
+	struct hl_ring *ring;
+	struct hl_pipeline *pipe; /* NULL: the renderer is off */
+	struct hl_frame_pool *pool;
+	struct hl_stream *stream;
+	struct hl_gpio *gpio;
+};
+
+struct hl_status;
+
+/* failsafe: the running lamps.failsafe. 0, -EINVAL (no lamps), -ENOMEM. */
+int hl_status_new(const struct hl_status_sources *src, enum hl_failsafe failsafe,
+		  struct hl_status **ret);
+void hl_status_free(struct hl_status *st);
+
+/* A reload applied: its fail-safe mode is now the running one; counts the reload. */
+void hl_status_reloaded(struct hl_status *st, enum hl_failsafe failsafe);
+/* Counts a capture written (ok) or failed. */
+void hl_status_captured(struct hl_status *st, bool ok);
+
+/* The status as one JSON object, NUL-terminated: its length, or -ENOBUFS, -errno. */
+int hl_status_json(struct hl_status *st, char *buf, size_t size);
+/* The counters as Prometheus text (daemon/prom.h): its length, or -ENOBUFS. */
+int hl_status_metrics(struct hl_status *st, char *buf, size_t size);
+
+#endif
