@@ -265,6 +265,12 @@ int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret)
 	return 1;
 }
 
+int hl_can_socket_filters(const struct hl_can_socket *s, const struct can_filter **ret)
+{
+	*ret = s->filters;
+	return s->n_filters;
+}
+
 void hl_can_socket_stats(const struct hl_can_socket *s, struct hl_can_socket_stats *ret)
 {
 	*ret = s->st;

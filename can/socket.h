@@ -75,6 +75,12 @@ int hl_can_socket_retry_ms(struct hl_can_socket *s);
  */
 int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret);
 
+/*
+ * The kernel filter (CAN_RAW_FILTER) every open sets: its count, 0 for none (every ID passes),
+ * and in *ret the filters, owned by s and fixed until hl_can_socket_free. Any thread.
+ */
+int hl_can_socket_filters(const struct hl_can_socket *s, const struct can_filter **ret);
+
 void hl_can_socket_stats(const struct hl_can_socket *s, struct hl_can_socket_stats *ret);
 const char *hl_can_socket_ifname(const struct hl_can_socket *s);
 const char *hl_can_bus_state_name(enum hl_can_bus_state state);
