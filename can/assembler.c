@@ -543,11 +543,9 @@ unsigned hl_assembler_counter_max(const struct hl_assembler *a, int lamp)
 
 int hl_assembler_ids(const struct hl_assembler *a, uint32_t *ids, int max)
 {
-	int n = 0;
-
-	for (int p = 0; p < a->n_plans && n < max; p++)
-		ids[n++] = a->plans[p].m->id | (a->plans[p].m->extended ? CAN_EFF_FLAG : 0);
-	return n;
+	for (int p = 0; p < a->n_plans && p < max; p++)
+		ids[p] = a->plans[p].m->id | (a->plans[p].m->extended ? CAN_EFF_FLAG : 0);
+	return a->n_plans;
 }
 
 bool hl_assembler_stale(const struct hl_assembler *a, int lamp)

@@ -33,6 +33,8 @@
 
 #define HL_ASM_MAX_LAMPS 8
 #define HL_ASM_MAX_PARTS 64 /* per lamp */
+/* Lamp messages at most: each carries at least one of its lamp's parts. */
+#define HL_ASM_MAX_IDS (HL_ASM_MAX_LAMPS * HL_ASM_MAX_PARTS)
 
 struct hl_lamp_counters {
 	uint64_t frames; /* frames of this lamp's messages */
@@ -126,7 +128,10 @@ const struct hl_dbc_signal *hl_assembler_source_signal(const struct hl_assembler
 						       int source);
 /* Largest alive counter value of the lamp's E2E profile (14 for P1, 255 for P5, 0 for none). */
 unsigned hl_assembler_counter_max(const struct hl_assembler *a, int lamp);
-/* The message IDs to receive (for kernel filters); returns the count, at most max. */
+/*
+ * The message IDs to receive (for kernel filters), at most max of them into ids; returns how
+ * many there are (at most HL_ASM_MAX_IDS), which is more than max when ids was too short.
+ */
 int hl_assembler_ids(const struct hl_assembler *a, uint32_t *ids, int max);
 bool hl_assembler_stale(const struct hl_assembler *a, int lamp);
 const struct hl_lamp_counters *hl_assembler_lamp_counters(const struct hl_assembler *a, int lamp);

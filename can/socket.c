@@ -223,7 +223,7 @@ int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret)
 		return 0; /* cannot happen on a CAN_RAW socket; nothing usable */
 	}
 	ret->t_rx_ns = 0;
-	ret->t_hw = false;
+	ret->t_hw_ns = 0;
 	for (struct cmsghdr *c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
 		if (c->cmsg_level != SOL_SOCKET)
 			continue;
@@ -236,12 +236,9 @@ int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret)
 			struct scm_timestamping ts;
 
 			memcpy(&ts, CMSG_DATA(c), sizeof(ts));
-			if (ts.ts[2].tv_sec || ts.ts[2].tv_nsec) {
-				ret->t_rx_ns = timespec_ns(&ts.ts[2]);
-				ret->t_hw = true;
-			} else {
-				ret->t_rx_ns = timespec_ns(&ts.ts[0]);
-			}
+			/* ts[0]: software, CLOCK_REALTIME; ts[2]: raw hardware, the controller's */
+			ret->t_rx_ns = timespec_ns(&ts.ts[0]);
+			ret->t_hw_ns = timespec_ns(&ts.ts[2]);
 		} else if (c->cmsg_type == SO_TIMESTAMPNS) {
 			struct timespec ts;
 
@@ -263,6 +260,12 @@ int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret)
 	s->st.frames++;
 	s->st.fd_frames += ret->fd;
 	return 1;
+}
+
+int hl_can_socket_filters(const struct hl_can_socket *s, const struct can_filter **ret)
+{
+	*ret = s->filters;
+	return s->n_filters;
 }
 
 void hl_can_socket_stats(const struct hl_can_socket *s, struct hl_can_socket_stats *ret)

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The SocketCAN source: a raw CAN socket on one interface, CAN FD when the interface's MTU
- * allows it, kernel filters for the dimming messages, kernel receive timestamps (the
- * controller's when it has them, else the kernel's), the kernel's drop counter
- * (SO_RXQ_OVFL) and error frames for the controller state.
+ * allows it, kernel filters for the dimming messages, kernel receive timestamps on
+ * CLOCK_REALTIME (and the controller's own timestamp beside them when it has one), the
+ * kernel's drop counter (SO_RXQ_OVFL) and error frames for the controller state.
  *
  * An interface that goes down or disappears closes the socket (hl_can_socket_read returns
  * -ENETDOWN or -ENODEV); the owner reopens it with hl_can_socket_open after a back-off
@@ -32,8 +32,15 @@ struct hl_can_rx {
 	struct canfd_frame frame; /* for a classic frame, len is its DLC (0..8) */
 	bool fd; /* received as a CAN FD frame */
 	bool error; /* an error frame (frame.can_id has CAN_ERR_FLAG) */
-	bool t_hw; /* t_rx_ns comes from the controller's clock */
-	int64_t t_rx_ns; /* kernel receive time, CLOCK_REALTIME */
+	/*
+	 * When the kernel received it, CLOCK_REALTIME ns: its software receive timestamp
+	 * (SO_TIMESTAMPING, or SO_TIMESTAMPNS on kernels without it), or, if the kernel gave none,
+	 * the time of the read. Never the controller's clock, whose epoch and rate are its own.
+	 */
+	int64_t t_rx_ns;
+	/* The controller's receive timestamp (SO_TIMESTAMPING raw hardware), ns on the
+	 * controller's clock; 0 when the driver has none. */
+	int64_t t_hw_ns;
 };
 
 struct hl_can_socket_stats {
@@ -74,6 +81,12 @@ int hl_can_socket_retry_ms(struct hl_can_socket *s);
  * Error frames are returned too (ret->error) after updating the bus state.
  */
 int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret);
+
+/*
+ * The kernel filter (CAN_RAW_FILTER) every open sets: its count, 0 for none (every ID passes),
+ * and in *ret the filters, owned by s and fixed until hl_can_socket_free. Any thread.
+ */
+int hl_can_socket_filters(const struct hl_can_socket *s, const struct can_filter **ret);
 
 void hl_can_socket_stats(const struct hl_can_socket *s, struct hl_can_socket_stats *ret);
 const char *hl_can_socket_ifname(const struct hl_can_socket *s);

@@ -50,10 +50,11 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	if (rc == 0 && cfg->replay)
 		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop, &in->log);
 	if (rc == 0 && cfg->iface) {
-		uint32_t ids[64];
-		const int n = hl_assembler_ids(a, ids, 64);
+		/* every lamp message: a filter list cut short would lose its frames unnoticed */
+		uint32_t ids[HL_ASM_MAX_IDS];
+		const int n = hl_assembler_ids(a, ids, HL_ASM_MAX_IDS);
 
-		rc = hl_can_socket_new(cfg->iface, ids, n, &in->sock);
+		rc = n > HL_ASM_MAX_IDS ? -E2BIG : hl_can_socket_new(cfg->iface, ids, n, &in->sock);
 	}
 	if (rc < 0) {
 		hl_can_input_free(in);
@@ -120,6 +121,12 @@ void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret)
 	pthread_mutex_lock(&in->status_lock);
 	*ret = in->status;
 	pthread_mutex_unlock(&in->status_lock);
+}
+
+int hl_can_input_filters(const struct hl_can_input *in, const struct can_filter **ret)
+{
+	*ret = NULL;
+	return in->sock ? hl_can_socket_filters(in->sock, ret) : 0;
 }
 
 int hl_can_input_wake_fd(const struct hl_can_input *in)

@@ -64,6 +64,13 @@ struct hl_input_status {
 
 void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret);
 
+/*
+ * The kernel filter of a SocketCAN input (every lamp message of the database, nothing else):
+ * its count and in *ret the filters, owned by the input; 0 and NULL for a replay. Fixed at
+ * hl_can_input_new, so any thread.
+ */
+int hl_can_input_filters(const struct hl_can_input *in, const struct can_filter **ret);
+
 /* Writes the input's counters as a JSON object's members (no braces). */
 void hl_can_input_report(const struct hl_can_input *in, FILE *f);
 

@@ -6,8 +6,10 @@
  * STOPPING=1 on the way out.
  *
  * Every function is a no-op returning 0 when NOTIFY_SOCKET is unset (not run by systemd), and
- * returns > 0 when the message was sent, -errno when sending failed. The daemon logs a failure
- * once; it never stops because systemd cannot be told something.
+ * returns > 0 when the message was sent, -errno when sending failed. The first failure of each
+ * kind of message (READY=1, STATUS, RELOADING=1, STOPPING=1, WATCHDOG=1, EXTEND_TIMEOUT_USEC, a
+ * malformed WATCHDOG_USEC) is logged here, on stderr, so callers need not; later ones are only
+ * returned. The daemon never stops because systemd cannot be told something.
  *
  * Thread-safety: all functions from any thread (each call opens, sends on and closes its own
  * socket; nothing is shared). A call costs a few system calls, no heap use of ours: ping the

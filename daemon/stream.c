@@ -35,6 +35,7 @@ struct client {
 	size_t len, off;
 	uint64_t last_seq;
 	uint64_t sent, skipped;
+	bool eof; /* the client shut down its sending side: no longer polled for input */
 };
 
 struct hl_stream {
@@ -304,6 +305,30 @@ static void copy_rest(struct hl_stream *s, struct client *c)
 		at += iov[i].iov_len;
 	}
 	release_frame(s, c);
+	pthread_mutex_lock(&s->lock);
+	s->c.frames_copied++;
+	pthread_mutex_unlock(&s->lock);
+}
+
+/*
+ * Reads and drops what the client sent (the stream takes no input). recv() returning 0 is not
+ * an error: the client shut down its sending side and may still read (a half-close), so it
+ * stays and is no longer polled for input (a socket at EOF is readable for ever). A client that
+ * closed the connection entirely shows as POLLHUP or as a failing send. false when it is gone.
+ */
+static bool drain_input(struct hl_stream *s, struct client *c)
+{
+	char sink[256];
+	const ssize_t n = recv(c->fd, sink, sizeof(sink), MSG_DONTWAIT);
+	const bool gone = n < 0 && errno != EAGAIN && errno != EINTR;
+
+	if (n == 0)
+		c->eof = true;
+	pthread_mutex_lock(&s->lock);
+	s->c.input_reads++;
+	s->c.input_eofs += n == 0;
+	pthread_mutex_unlock(&s->lock);
+	return !gone;
 }
 
 /* Sends what the socket takes now; false when the client is gone. */
@@ -363,15 +388,13 @@ static void *thread_main(void *arg)
 			if (c->off == c->len)
 				load_frame(s, c);
 			who[n] = c;
-			pfd[n++] = (struct pollfd){
-				.fd = c->fd, .events = POLLIN | (c->off < c->len ? POLLOUT : 0)
-			};
+			pfd[n++] = (struct pollfd){ .fd = c->fd,
+						    .events = (c->eof ? 0 : POLLIN) |
+							      (c->off < c->len ? POLLOUT : 0) };
 		}
 		if (poll(pfd, n, POLL_MS) <= 0)
 			continue;
 		for (nfds_t i = 0; i < n; i++) {
-			char sink[256];
-
 			if (!pfd[i].revents)
 				continue;
 			if (pfd[i].fd == s->wake_fd) {
@@ -387,9 +410,7 @@ static void *thread_main(void *arg)
 				if (pfd[i].revents & (POLLERR | POLLHUP))
 					alive = false;
 				if (alive && (pfd[i].revents & POLLIN))
-					alive = recv(c->fd, sink, sizeof(sink), MSG_DONTWAIT) !=
-							0 ||
-						errno == EAGAIN;
+					alive = drain_input(s, c);
 				if (alive && (pfd[i].revents & POLLOUT))
 					alive = pump(s, c);
 				if (!alive)

@@ -6,6 +6,12 @@
  * published skips to the newest (counted); it never holds a pool frame while it reads, so it
  * cannot delay the renderer or other clients, and its memory is one frame, fixed at accept.
  *
+ * Clients send nothing; whatever they send is read and dropped. A client that shuts down its
+ * sending side (shutdown(SHUT_WR), "nc -N") and keeps reading stays connected and keeps
+ * receiving frames; from then on it is not polled for input. A client is dropped when its
+ * connection is gone: at once for a Unix socket closed by the peer (POLLHUP), for TCP when a
+ * send fails (a peer that closed resets the connection at the next frame sent to it).
+ *
  * The stream subscribes to the pool: every published frame wakes it (hl_stream_new to
  * hl_stream_free).
  *
@@ -22,8 +28,10 @@
 #include "daemon/frame_pool.h"
 
 struct hl_stream_counts {
-	uint64_t accepted, rejected, clients; /* rejected: over max_clients */
+	uint64_t accepted, rejected, clients; /* rejected: over max_clients; clients: now */
 	uint64_t frames_sent, frames_skipped, bytes_sent;
+	uint64_t frames_copied; /* frames whose unsent rest went to the client's buffer */
+	uint64_t input_reads, input_eofs; /* recv calls on clients; half-closes seen */
 };
 
 struct hl_stream;

@@ -74,10 +74,12 @@ def lamp_status(status, name):
     return next(l for l in status["lamps"] if l["name"] == name)
 
 
-def check_failsafe_frames(hs, timeout_ms=100, tol_ms=20):
+def check_failsafe_frames(hs):
     """Frame headers (streamclient) around the scenario's silence: each lamp's fail-safe is
-    entered timeout ± tol after its last cycle (both times from the header, CLOCK_MONOTONIC),
-    and the first frame showing the lamp's next cycle has it off. Returns the gaps in ms."""
+    entered after its last cycle (both times from the header, CLOCK_MONOTONIC) and before its
+    next one, and the first frame showing the lamp's next cycle has it off. Returns the gaps
+    in ms, for the log only: how long after the last cycle depends on how busy the machine
+    is; the timeout itself is checked exactly on the log's timeline (test_replay.py)."""
     gaps = []
     for bit, key, done in ((0b10, "cycle_seq_left", "t_lamp_done_left"),
                            (0b1000, "cycle_seq_right", "t_lamp_done_right")):
@@ -89,8 +91,26 @@ def check_failsafe_frames(hs, timeout_ms=100, tol_ms=20):
         assert silence, f"{key}: no fail-safe between two cycles"
         on = silence[-1]
         gap_ms = (hs[on]["t_cycle_done_ns"] - hs[on][done]) / 1e6
-        assert timeout_ms - tol_ms <= gap_ms <= timeout_ms + tol_ms, (key, gap_ms)
+        assert gap_ms > 0, (key, gap_ms)  # after the last cycle, by the daemon's clock
         first_newer = next(h for h in hs[on:] if h[key] > hs[on][key])
         assert not first_newer["flags"] & bit, key  # off with the next cycle
         gaps.append(round(gap_ms, 1))
     return gaps
+
+
+def quick_singles(hs, coalesce_ms=2):
+    """Frames (after a normal one) that bring one lamp's next cycle only, although the render
+    thread did not wait render.coalesce_ms for the other lamp (the daemon's own timestamps:
+    from the snapshot's push, t_cycle_done_ns, to render start). The daemon renders a lone lamp
+    early only when the other is not due (a fault left it behind); when the other lamp is
+    late, however late, it waits the whole window first. Load cannot make a frame quicker."""
+    n = 0
+    for a, b in zip(hs, hs[1:]):
+        if a["flags"] or b["flags"]:
+            continue
+        dl = b["cycle_seq_left"] - a["cycle_seq_left"]
+        dr = b["cycle_seq_right"] - a["cycle_seq_right"]
+        if (dl == 0) != (dr == 0) and \
+                b["t_render_start_ns"] - b["t_cycle_done_ns"] < coalesce_ms * 1e6:
+            n += 1
+    return n

@@ -85,7 +85,7 @@ def png_stats(path):
 def test_http_frames_change_with_the_beam(http_url, tmp_path):
     """/frame.png is a real, lit frame, and it changes within a few seconds (low/high beam)."""
     seen = []
-    until = time.monotonic() + 6
+    until = time.monotonic() + 60  # a generous wait for the beam to change, not a speed
     while time.monotonic() < until and len(set(seen)) < 2:
         status, ctype, body = get(http_url + "frame.png")
         if status == 503 and not seen:  # nothing rendered yet: the first cycle is on its way
@@ -98,7 +98,7 @@ def test_http_frames_change_with_the_beam(http_url, tmp_path):
         assert mean > 5 and lit > 0.05 and levels > 50, (mean, lit, levels)
         seen.append(body)
         time.sleep(0.4)
-    assert len(set(seen)) == 2, f"{len(seen)} frames in 6 s, all the same"
+    assert len(set(seen)) == 2, f"{len(seen)} frames in 60 s, all the same"
     status, ctype, body = get(http_url + "status")
     assert (status, ctype) == (200, "application/json")
     json.loads(body)

@@ -65,10 +65,17 @@ def test_metrics_parse_and_count_the_drive(hdlamp, tmp_path):
         assert line, "hdlampd exited early"
         if "live view on http://" in line:
             port = int(line.rsplit("(port ", 1)[1].split(")")[0])
-    time.sleep(2.5)  # more than one pass of the drive (1.1 s)
-    with urllib.request.urlopen(f"http://127.0.0.1:{port}/metrics", timeout=10) as r:
-        ctype = r.headers.get("Content-Type")
-        text = r.read().decode()
+    # scrape until a whole pass of the drive was counted (an event; a busy machine is slower)
+    until = time.monotonic() + 60
+    while True:
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/metrics", timeout=10) as r:
+            ctype = r.headers.get("Content-Type")
+            text = r.read().decode()
+        left = [v for s, l, v in parse(text)["hdlamp_cycles_total"]["samples"]
+                if l == 'lamp="left"']
+        if left and left[0] >= counters["left"]["cycles"] or time.monotonic() > until:
+            break
+        time.sleep(0.1)
     p.send_signal(15)
     assert p.wait(10) == 0
     assert ctype.startswith("text/plain; version=0.0.4")

@@ -1,4 +1,5 @@
 """hdlampd --replay on the host: exact cycles and fault counters of the drive scenario."""
+import json
 import os
 import signal
 import subprocess
@@ -43,9 +44,11 @@ def test_realtime_replay_gives_the_same_cycles_as_fast(hdlamp, tmp_path):
     fast = hdlampd("--replay", log, "--fast", "--dbc", dbc_path("hd84.dbc"), "--no-render",
                    "--print-cycles")
     assert slow.returncode == 0 and fast.returncode == 0
-    # the log spans (6 phases x 4 + 6 fault cycles) x 20 ms + 300 ms of silence
+    # the log spans (6 phases x 4 + 6 fault cycles) x 20 ms + 300 ms of silence: a replay at
+    # the log's pace never ends sooner (a busy machine only makes it later, so no upper bound)
     span = (6 * 4 + 6) * 0.020 + 0.300
-    assert span - 0.02 <= took <= span + 0.5, took
+    print(f"real-time replay of a {span:.2f} s log: {took:.2f} s")
+    assert took >= span - 0.02, took
     c_slow, e_slow, s_slow = parse_output(slow.stdout)
     c_fast, e_fast, s_fast = parse_output(fast.stdout)
     for lamp in ("left", "right"):
@@ -72,19 +75,26 @@ def test_malformed_lines_are_reported_with_line_numbers_and_skipped(hdlamp, tmp_
     check_against_expectation(cycles, summary, expect, counters)
 
 
-def test_sigterm_stops_a_looping_replay_promptly(hdlamp, tmp_path):
-    log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), tmp_path, phase=2)
-    p = subprocess.Popen([HDLAMPD, "--replay", log, "--loop", "--no-render", "--dbc",
-                          dbc_path("hd84.dbc")], stdout=subprocess.PIPE, text=True)
-    time.sleep(1.5)
+def test_sigterm_stops_a_looping_replay(hdlamp, tmp_path):
+    log, _, counters = generate(hdlamp, dbc_path("hd84.dbc"), tmp_path, phase=2)
+    p = subprocess.Popen([HDLAMPD, "--replay", log, "--loop", "--no-render", "--print-cycles",
+                          "--dbc", dbc_path("hd84.dbc")], stdout=subprocess.PIPE, text=True)
+    # SIGTERM once the second pass has begun: a left cycle beyond the first pass's count (an
+    # event in the daemon's output, not a time)
+    lines = []
+    for line in p.stdout:
+        lines.append(line)
+        o = json.loads(line)
+        if o.get("lamp") == "left" and o.get("seq", 0) > counters["left"]["cycles"]:
+            break
     t0 = time.monotonic()
     p.send_signal(signal.SIGTERM)
-    out, _ = p.communicate(timeout=5)
+    out, _ = p.communicate(timeout=30)  # a generous limit for a hang, not a speed
     assert p.returncode == 0
-    assert time.monotonic() - t0 < 1.0
-    _, _, summary = parse_output(out)
+    print(f"SIGTERM to exit: {time.monotonic() - t0:.3f} s")
+    _, _, summary = parse_output("".join(lines) + out)
     assert summary["log"]["passes"] >= 2
-    assert summary["lamps"]["left"]["cycles"] > 0
+    assert summary["lamps"]["left"]["cycles"] > counters["left"]["cycles"]
 
 
 def test_usage_and_input_errors(tmp_path):

@@ -168,6 +168,54 @@ static void notify_without_socket_is_a_noop(void **state)
 	assert_string_equal(next_message(l, buf, sizeof(buf)), "");
 }
 
+/*
+ * Failures are logged here, the first of each kind only (callers ignore the results). Runs
+ * first: which kinds have failed is process state.
+ */
+static void notify_failure_is_logged_once_per_kind(void **state)
+{
+	char path[108], log_path[108], text[1024];
+	FILE *log;
+	size_t n;
+	int saved;
+	(void)state;
+
+	test_path(path, sizeof(path), "nobody-listens.sock");
+	test_path(log_path, sizeof(log_path), "notify-stderr.txt");
+	unlink(path);
+	setenv("NOTIFY_SOCKET", path, 1);
+	log = fopen(log_path, "w+");
+	assert_non_null(log);
+	fflush(stderr);
+	saved = dup(STDERR_FILENO);
+	assert_true(saved >= 0);
+	assert_int_equal(dup2(fileno(log), STDERR_FILENO), STDERR_FILENO);
+	for (int i = 0; i < 3; i++)
+		assert_int_equal(hl_notify_watchdog(), -ENOENT);
+	assert_int_equal(hl_notify_status("%s", "x"), -ENOENT);
+	assert_int_equal(hl_notify_status("%s", "y"), -ENOENT);
+	setenv("WATCHDOG_USEC", "soon", 1);
+	for (int i = 0; i < 2; i++) {
+		uint64_t us = 1;
+
+		assert_int_equal(hl_notify_watchdog_interval_us(&us), -EINVAL);
+	}
+	unsetenv("WATCHDOG_USEC");
+	fflush(stderr);
+	assert_int_equal(dup2(saved, STDERR_FILENO), STDERR_FILENO);
+	close(saved);
+	rewind(log);
+	n = fread(text, 1, sizeof(text) - 1, log);
+	text[n] = '\0';
+	fclose(log);
+	unlink(log_path);
+	assert_string_equal(
+		text,
+		"hdlampd: systemd notification WATCHDOG=1: No such file or directory (logged once)\n"
+		"hdlampd: systemd notification STATUS: No such file or directory (logged once)\n"
+		"hdlampd: systemd notification WATCHDOG_USEC: Invalid argument (logged once)\n");
+}
+
 static void notify_unreachable_socket_is_an_error(void **state)
 {
 	char path[108];
@@ -216,6 +264,7 @@ static void notify_watchdog_interval_is_half(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(notify_failure_is_logged_once_per_kind),
 		cmocka_unit_test_setup_teardown(notify_sends_the_exact_messages, setup, teardown),
 		cmocka_unit_test_setup_teardown(notify_reloading_carries_monotonic_usec, setup,
 						teardown),

@@ -106,41 +106,67 @@ static void workers_back_to_back_jobs_never_mix(void **state)
 		/* a late helper touching j now would count a wrong tag or a second run */
 		free(j);
 	}
-	/* the helpers took part (with 50 us sleeps they must) */
-	assert_true(helped > 0);
+	/* how much the helpers took is the scheduler's business; that they do is shown below */
+	print_message("helpers ran %llu indices of 3000 jobs\n", helped);
 	hl_workers_free(w);
+}
+
+#define WAIT_NS 20000000000LL /* only broken helpers take this long to claim an index */
+
+static int64_t now_ns(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
 struct cpus {
 	pthread_t caller;
-	atomic_int helper_on[CPU_SETSIZE]; /* indices helpers ran, per CPU */
+	int caller_cpu; /* the only CPU the caller may run on */
+	atomic_int helped; /* indices helpers ran */
+	atomic_int on_caller_cpu; /* of those, by a helper allowed on the caller's CPU */
+	atomic_int timed_out;
 };
 
+/*
+ * The caller's first index waits until a helper has run one (an event: so helpers take part
+ * whatever the load); every helper index checks the CPUs it may run on.
+ */
 static void note_cpu(void *ctx, size_t i)
 {
 	struct cpus *c = ctx;
-	const struct timespec ts = { 0, 20000 };
 
 	(void)i;
-	nanosleep(&ts, NULL); /* long enough that the helper wakes and takes some */
-	if (!pthread_equal(pthread_self(), c->caller)) {
-		const int cpu = sched_getcpu();
+	if (pthread_equal(pthread_self(), c->caller)) {
+		const int64_t until = now_ns() + WAIT_NS;
 
-		if (cpu >= 0 && cpu < CPU_SETSIZE)
-			atomic_fetch_add(&c->helper_on[cpu], 1);
+		while (atomic_load(&c->helped) == 0 && !atomic_load(&c->timed_out))
+			if (now_ns() > until)
+				atomic_store(&c->timed_out, 1);
+			else
+				sched_yield();
+	} else {
+		cpu_set_t mine;
+
+		if (sched_getaffinity(0, sizeof(mine), &mine) == 0 &&
+		    CPU_ISSET(c->caller_cpu, &mine))
+			atomic_fetch_add(&c->on_caller_cpu, 1);
+		atomic_fetch_add(&c->helped, 1);
 	}
 }
 
 /*
  * Helpers are kept off the caller's CPU (else the scheduler's wake-affine placement often
- * parks a woken helper behind the caller): over 200 jobs, helpers ran on the CPU the caller
- * was on when the job started in at most a few (the caller may move during a job).
+ * parks a woken helper behind the caller). Judged by the mechanism, not by where a busy
+ * scheduler happened to place threads: with the caller pinned to each allowed CPU in turn,
+ * every helper index of a job runs on a helper whose affinity excludes that CPU.
  */
 static void workers_helpers_avoid_the_callers_cpu(void **state)
 {
 	struct hl_workers *w = NULL;
 	cpu_set_t allowed;
-	int jobs_on_caller_cpu = 0, helped = 0;
+	int tried = 0;
 
 	(void)state;
 	assert_int_equal(sched_getaffinity(0, sizeof(allowed), &allowed), 0);
@@ -148,25 +174,31 @@ static void workers_helpers_avoid_the_callers_cpu(void **state)
 		printf("one CPU allowed: nothing to avoid\n");
 		return;
 	}
+	/* made before the caller is pinned: the helpers may use every allowed CPU */
 	assert_int_equal(hl_workers_new(2, &w), 0);
-	for (int r = 0; r < 200; r++) {
-		struct cpus *c = calloc(1, sizeof(*c));
-		const int cpu = sched_getcpu();
-		int on_other = 0;
+	for (int cpu = 0; cpu < CPU_SETSIZE && tried < 4; cpu++) {
+		struct cpus *c;
+		cpu_set_t one;
 
-		assert_non_null(c);
-		c->caller = pthread_self();
-		hl_workers_run(w, 16, note_cpu, c);
-		for (int k = 0; k < CPU_SETSIZE; k++)
-			on_other += k != cpu ? atomic_load(&c->helper_on[k]) : 0;
-		jobs_on_caller_cpu += atomic_load(&c->helper_on[cpu]) > 0;
-		helped += on_other > 0;
-		free(c);
+		if (!CPU_ISSET(cpu, &allowed))
+			continue;
+		CPU_ZERO(&one);
+		CPU_SET(cpu, &one);
+		assert_int_equal(pthread_setaffinity_np(pthread_self(), sizeof(one), &one), 0);
+		for (int r = 0; r < 20; r++) {
+			c = calloc(1, sizeof(*c));
+			assert_non_null(c);
+			c->caller = pthread_self();
+			c->caller_cpu = cpu;
+			hl_workers_run(w, 16, note_cpu, c);
+			assert_int_equal(atomic_load(&c->timed_out), 0);
+			assert_true(atomic_load(&c->helped) > 0);
+			assert_int_equal(atomic_load(&c->on_caller_cpu), 0);
+			free(c);
+		}
+		tried++;
 	}
-	printf("200 jobs: helpers took part in %d, ran on the caller's CPU in %d\n", helped,
-	       jobs_on_caller_cpu);
-	assert_true(helped > 100);
-	assert_true(jobs_on_caller_cpu <= 4);
+	assert_int_equal(pthread_setaffinity_np(pthread_self(), sizeof(allowed), &allowed), 0);
 	hl_workers_free(w);
 }
 

@@ -45,12 +45,13 @@ def test_strobe_per_frame_and_trigger_capture(hdlamp, tmp_path):
     time.sleep(1.0)
     assert p.poll() is None
     assert read(sim(1, "value")) == "1"  # ECU-enable held while running
-    # watch the strobe line from outside for a second: it changes with the frames
-    levels, t_end = [], time.monotonic() + 1.5
-    while time.monotonic() < t_end:
+    # watch the strobe line from outside until it changed 10 times with the frames (an event;
+    # the limit is for a line that never moves, not a speed)
+    levels, t_end, seen = [], time.monotonic() + 60, 0
+    while seen < 10 and time.monotonic() < t_end:
         levels.append(read(sim(0, "value")))
+        seen += len(levels) > 1 and levels[-1] != levels[-2]
         time.sleep(0.002)
-    seen = sum(a != b for a, b in zip(levels, levels[1:]))
     with open(sim(3, "pull"), "w") as f:  # a rising edge on the trigger
         f.write("pull-up")
     time.sleep(3)
@@ -61,9 +62,9 @@ def test_strobe_per_frame_and_trigger_capture(hdlamp, tmp_path):
     g = status["gpio"]
     print(f"frames published {status['frames']['published']}, strobe toggles "
           f"{g['strobe_toggles']}, trigger edges {g['trigger_edges']}")
-    assert g["strobe_toggles"] == status["frames"]["published"] > 20
+    assert g["strobe_toggles"] == status["frames"]["published"]
     assert g["strobe_errors"] == 0
-    print(f"strobe changes seen on the line in 1.5 s: {seen}")
+    print(f"strobe changes seen on the line: {seen}")
     assert 10 <= seen <= g["strobe_toggles"]
     assert read(sim(1, "value")) == "0"  # released at exit
     assert g["trigger_edges"] == 1 and status["captures"] == 1
