@@ -94,22 +94,12 @@ static void update_status(struct hl_can_input *in)
 	st.is_socket = in->sock != NULL;
 	st.done = in->snap->status & HL_INPUT_DONE;
 	if (in->sock) {
-		struct hl_can_socket_stats ss;
-
-		hl_can_socket_stats(in->sock, &ss);
-		snprintf(st.bus, sizeof(st.bus), "%s", hl_can_bus_state_name(ss.bus));
-		st.kernel_drops = ss.kernel_drops;
-		st.socket_error_frames = ss.error_frames;
-		st.bus_off = ss.bus_off;
-		st.restarts = ss.restarts;
+		hl_can_socket_stats(in->sock, &st.socket);
+		snprintf(st.bus, sizeof(st.bus), "%s", hl_can_bus_state_name(st.socket.bus));
+		snprintf(st.iface, sizeof(st.iface), "%s", hl_can_socket_ifname(in->sock));
 	} else {
-		struct hl_candump_log_stats ls;
-
-		hl_candump_log_stats(in->log, &ls);
+		hl_candump_log_stats(in->log, &st.log);
 		snprintf(st.bus, sizeof(st.bus), "replay");
-		st.log_lines = ls.lines;
-		st.log_malformed = ls.malformed;
-		st.log_passes = ls.passes;
 	}
 	pthread_mutex_lock(&in->status_lock);
 	in->status = st;
@@ -324,6 +314,7 @@ static void *thread_main(void *arg)
 		run_replay(in);
 	else
 		run_socket(in);
+	update_status(in); /* the final counts, for the summary after stop */
 	return NULL;
 }
 
@@ -346,35 +337,29 @@ void hl_can_input_stop(struct hl_can_input *in)
 	in->started = false;
 }
 
-void hl_can_input_report(const struct hl_can_input *in, FILE *f)
+void hl_can_input_report(struct hl_can_input *in, FILE *f)
 {
-	const struct hl_asm_counters *c = hl_assembler_counters(in->a);
+	struct hl_input_status st;
+	const struct hl_asm_counters *c = &st.frames;
 
+	hl_can_input_status(in, &st);
 	fprintf(f,
 		"\"frames\":{\"decoded\":%" PRIu64 ",\"unknown_id\":%" PRIu64 ",\"short\":%" PRIu64
 		",\"other\":%" PRIu64 ",\"error_frames\":%" PRIu64 "}",
 		c->dbc.decoded, c->dbc.unknown_id, c->dbc.short_frame, c->other_frames,
 		c->error_frames);
-	if (in->log) {
-		struct hl_candump_log_stats st;
-
-		hl_candump_log_stats(in->log, &st);
+	if (!st.is_socket)
 		fprintf(f,
 			",\"log\":{\"lines\":%" PRIu64 ",\"frames\":%" PRIu64
 			",\"malformed\":%" PRIu64 ",\"passes\":%" PRIu64 "}",
-			st.lines, st.frames, st.malformed, st.passes);
-	}
-	if (in->sock) {
-		struct hl_can_socket_stats st;
-
-		hl_can_socket_stats(in->sock, &st);
+			st.log.lines, st.log.frames, st.log.malformed, st.log.passes);
+	else
 		fprintf(f,
 			",\"socket\":{\"iface\":\"%s\",\"fd\":%s,\"bus\":\"%s\",\"frames\":%" PRIu64
 			",\"fd_frames\":%" PRIu64 ",\"error_frames\":%" PRIu64
 			",\"kernel_drops\":%" PRIu64 ",\"bus_off\":%" PRIu64
 			",\"restarts\":%" PRIu64 ",\"opens\":%" PRIu64 ",\"closes\":%" PRIu64 "}",
-			hl_can_socket_ifname(in->sock), st.fd_enabled ? "true" : "false",
-			hl_can_bus_state_name(st.bus), st.frames, st.fd_frames, st.error_frames,
-			st.kernel_drops, st.bus_off, st.restarts, st.opens, st.closes);
-	}
+			st.iface, st.socket.fd_enabled ? "true" : "false", st.bus, st.socket.frames,
+			st.socket.fd_frames, st.socket.error_frames, st.socket.kernel_drops,
+			st.socket.bus_off, st.socket.restarts, st.socket.opens, st.socket.closes);
 }

@@ -9,9 +9,13 @@
  * Timeouts run on CLOCK_MONOTONIC for a live bus and on the log's own timeline for a replay,
  * so a replay reports the same cycles and the same stale times at any speed.
  *
- * Thread-safety: hl_can_input_start/stop from the main thread; hl_can_input_status from any
- * thread (a locked copy); everything else runs on the CAN thread. hl_can_input_report may be
- * called after stop (or from the CAN thread).
+ * The input's state and counters live in one place: the CAN thread copies them, under a lock,
+ * into one struct hl_input_status (on every push and at least every 100 ms), and every reader
+ * - /status, /metrics, the log, the exit summary - takes a copy of that.
+ *
+ * Thread-safety: hl_can_input_start/stop from the main thread; hl_can_input_status,
+ * hl_can_input_report and hl_can_input_filters from any thread; everything else runs on the
+ * CAN thread.
  */
 #ifndef HL_DAEMON_CAN_INPUT_H
 #define HL_DAEMON_CAN_INPUT_H
@@ -20,6 +24,8 @@
 #include <stdio.h>
 
 #include "can/assembler.h"
+#include "can/candump_log.h"
+#include "can/socket.h"
 #include "daemon/ring.h"
 
 /* Global status bits of a snapshot (hl_snapshot.status). */
@@ -57,9 +63,10 @@ struct hl_input_status {
 	struct hl_asm_counters frames;
 	bool link_up, is_socket, done; /* done: the replay reached its end */
 	int link_errno;
-	char bus[32];
-	uint64_t kernel_drops, socket_error_frames, bus_off, restarts;
-	uint64_t log_lines, log_malformed, log_passes;
+	char bus[32]; /* the bus state's name, "replay" for a log */
+	char iface[32]; /* the SocketCAN interface; empty for a log */
+	struct hl_can_socket_stats socket; /* a SocketCAN input's counters (is_socket) */
+	struct hl_candump_log_stats log; /* a replay's counters (!is_socket) */
 };
 
 void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret);
@@ -71,7 +78,8 @@ void hl_can_input_status(struct hl_can_input *in, struct hl_input_status *ret);
  */
 int hl_can_input_filters(const struct hl_can_input *in, const struct can_filter **ret);
 
-/* Writes the input's counters as a JSON object's members (no braces). */
-void hl_can_input_report(const struct hl_can_input *in, FILE *f);
+/* Writes the input's counters (the copy hl_can_input_status returns) as a JSON object's
+ * members (no braces). */
+void hl_can_input_report(struct hl_can_input *in, FILE *f);
 
 #endif

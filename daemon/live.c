@@ -90,14 +90,16 @@ static bool report(const char *iface, bool print_cycles, const struct hl_assembl
 
 /* Decode-only: every counter, once at exit. */
 static void summary(const struct hl_assembler *a, const struct hl_ring *ring,
-		    const struct hl_can_input *in)
+		    struct hl_can_input *in)
 {
 	struct hl_ring_counts rc;
+	struct hl_input_status st;
 
 	hl_ring_counts(ring, &rc);
+	hl_can_input_status(in, &st);
 	printf("{\"event\":\"summary\",\"lamps\":{");
-	for (int l = 0; l < hl_assembler_n_lamps(a); l++) {
-		const struct hl_lamp_counters *c = hl_assembler_lamp_counters(a, l);
+	for (int l = 0; l < st.n_lamps; l++) {
+		const struct hl_lamp_counters *c = &st.lamps[l];
 
 		printf("%s\"%s\":{\"frames\":%" PRIu64 ",\"cycles\":%" PRIu64
 		       ",\"crc_errors\":%" PRIu64 ",\"incomplete\":%" PRIu64
@@ -107,7 +109,7 @@ static void summary(const struct hl_assembler *a, const struct hl_ring *ring,
 		       l ? "," : "", hl_assembler_lamp_name(a, l), c->frames, c->cycles,
 		       c->crc_errors, c->incomplete, c->lost_cycles, c->repeated_frames,
 		       c->out_of_range, c->stale_events, c->recoveries,
-		       hl_assembler_stale(a, l) ? "true" : "false");
+		       st.stale[l] ? "true" : "false");
 	}
 	printf("},");
 	hl_can_input_report(in, stdout);

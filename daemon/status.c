@@ -212,7 +212,7 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 			(const char *const[]){ "fate", "dropped", NULL }, v.rc.dropped);
 	hl_prom_family(&p, "hdlamp_kernel_drops_total", HL_PROM_COUNTER,
 		       "Frames the kernel dropped (SO_RXQ_OVFL).");
-	hl_prom_counter(&p, "hdlamp_kernel_drops_total", NULL, v.in.kernel_drops);
+	hl_prom_counter(&p, "hdlamp_kernel_drops_total", NULL, v.in.socket.kernel_drops);
 	hl_prom_family(&p, "hdlamp_frames_total", HL_PROM_COUNTER,
 		       "Frames rendered and published.");
 	hl_prom_counter(&p, "hdlamp_frames_total", NULL, v.pc.frames);

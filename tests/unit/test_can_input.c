@@ -234,9 +234,9 @@ static void can_input_replay_pushes_exact_cycles_and_stale_events(void **state)
 	}
 	assert_int_equal(st.frames.dbc.decoded, frames);
 	assert_int_equal(st.frames.dbc.unknown_id, 1);
-	assert_int_equal(st.log_lines, frames + 2);
-	assert_int_equal(st.log_malformed, 1);
-	assert_int_equal(st.log_passes, 1);
+	assert_int_equal(st.log.lines, frames + 2);
+	assert_int_equal(st.log.malformed, 1);
+	assert_int_equal(st.log.passes, 1);
 	{
 		const struct can_filter *flt = (const struct can_filter *)1;
 
