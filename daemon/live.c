@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The daemon's one wiring (DESIGN.md §2): DBC, assembler, ring and CAN thread for both modes;
- * with the renderer on, the render thread consumes the ring and feeds the frame pool and the
+ * The daemon's one wiring (docs/design.md §2): DBC, assembler, ring and CAN thread for both
+ * modes; with the renderer on, the render thread consumes the ring and feeds the frame pool and the
  * outputs; with it off (--no-render), this thread consumes the ring and prints JSON lines.
  */
 #include "daemon/live.h"

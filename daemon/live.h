@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * hdlampd's run (DESIGN.md §2), one wiring for both modes: CAN thread -> ring -> render thread
- * -> frame pool -> outputs (stream, HTTP, GPIO strobe, captures), with the main thread as the
+ * hdlampd's run (docs/design.md §2), one wiring for both modes: CAN thread -> ring -> render
+ * thread -> frame pool -> outputs (stream, HTTP, GPIO strobe, captures), with the main thread as the
  * event loop (signals, status); or, with the renderer off (--no-render), CAN thread -> ring ->
  * the main thread, which prints one JSON line per status change (and per complete lamp cycle
  * with print_cycles) and a summary of every counter at exit. Returns the process exit code.
