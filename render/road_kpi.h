@@ -1,0 +1,51 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The road's verdict (docs/verdicts.md, "Road KPIs"): range and width as lighting engineers
+ * quote them, from the lamps at their mounted pose lighting the flat road (z = 0, normal up):
+ * the farthest distance along the lane centre and along the right road edge where the
+ * illuminance E = sum over lamps of I * cos(eps) / r^2 reaches each level (1 lx and 3 lx by
+ * default), and the width of the area at the first level across the road at 25 m and 50 m.
+ *
+ * hl_road_kpi_new() precomputes, for every sample point on those lines, each lamp's bilinear
+ * taps and cos(eps) / r^2; a frame is then weighted sums.
+ *
+ * Thread-safety: built by one thread, read-only afterwards; hl_road_kpi_run() may run on several
+ * threads at once.
+ */
+#ifndef HL_RENDER_ROAD_KPI_H
+#define HL_RENDER_ROAD_KPI_H
+
+#include "render/headlight.h"
+
+#define HL_ROAD_KPI_LEVELS 2
+#define HL_ROAD_KPI_WIDTHS 2
+
+struct hl_road_kpi_options {
+	double levels_lx[HL_ROAD_KPI_LEVELS]; /* 1, 3 */
+	double lane_centre_y_m; /* -1.75: the ego lane's centre (vehicle frame, y left) */
+	double edge_y_m; /* -3.5: the right road edge */
+	double width_at_m[HL_ROAD_KPI_WIDTHS]; /* 25, 50: where the width is taken */
+	double max_range_m; /* how far the lines are scanned (300) */
+	double step_m; /* sample spacing along the lines (0.25) */
+};
+
+struct hl_road_kpi {
+	double centre_range_m[HL_ROAD_KPI_LEVELS]; /* 0 when the level is never reached */
+	double edge_range_m[HL_ROAD_KPI_LEVELS];
+	double width_m[HL_ROAD_KPI_WIDTHS]; /* of the levels_lx[0] area, 0 when none */
+};
+
+void hl_road_kpi_defaults(struct hl_road_kpi_options *ret);
+
+struct hl_road_kpi_plan;
+
+/* 0, -EINVAL (bad options, n_lamps outside 1..2), -ENOMEM. */
+int hl_road_kpi_new(int n_lamps, const struct hl_headlight_lamp *lamps,
+		    const struct hl_road_kpi_options *opts, struct hl_road_kpi_plan **ret);
+void hl_road_kpi_free(struct hl_road_kpi_plan *p);
+
+/* From the lamps' current distributions (dense[k] NULL: lamp k dark). Allocates nothing. */
+void hl_road_kpi_run(const struct hl_road_kpi_plan *p, const float *const *dense,
+		     struct hl_road_kpi *ret);
+
+#endif
