@@ -16,6 +16,8 @@
 
 #include <stdbool.h>
 
+#include "lamp/lid.h"
+
 #define HL_REG_ID_MAX 48
 #define HL_REG_TEXT_MAX 256
 #define HL_REG_MAX_REQUIREMENTS 128
@@ -77,6 +79,7 @@ struct hl_regulation {
 	char title[HL_REG_TEXT_MAX];
 	char source[HL_REG_TEXT_MAX]; /* the document the set comes from */
 	enum hl_reg_applies applies;
+	enum hl_angles angles; /* the goniometer system the angles are given in */
 	enum hl_receiver_shape receiver;
 	double receiver_deg; /* square side or circle diameter */
 	enum hl_reg_aim aim;
