@@ -32,7 +32,7 @@ void hl_road_kpi_defaults(struct hl_road_kpi_options *ret)
 		.edge_y_m = -3.5,
 		.width_at_m = { 25.0, 50.0 },
 		.max_range_m = 300.0,
-		.step_m = 0.25,
+		.step_m = 0.05,
 	};
 }
 

@@ -29,10 +29,10 @@
  * Linear interpolation of a smooth E between samples s apart puts the crossing off by at most
  * about s^2 / 8 * |E''| / |E'| there. For the uniform lamp, E ~ (d^2 + c)^(-3/2) along a line,
  * |E''/E'| < 4 / x along the range lines (x > 20 m here: 0.2 /m) and < 0.05 /m across the
- * width line at 25 m near its ends (|y| ~ 20 m), so at the default step of 0.25 m the error is
- * below 1.6 mm: 2 mm is the tolerance.
+ * width line at 25 m near its ends (|y| ~ 20 m), so at the default step of 0.05 m the error is
+ * below 0.07 mm: 0.1 mm is the tolerance.
  */
-#define SMOOTH_TOL_M 0.002
+#define SMOOTH_TOL_M 0.0001
 
 /* A type A grid: H -60..60 every 1 deg, V -60..30 every 1 deg. */
 static struct hl_lid_grid wide_grid(void)
@@ -103,14 +103,14 @@ static void road_kpi_uniform_lamp_closed_form(void **state)
 				   uniform_reach(i_cd, o.levels_lx[j], EDGE_Y_M - CENTRE_Y_M),
 				   SMOOTH_TOL_M);
 	}
-	/* 1 lx: centre 31.906 m, edge 31.858 m; 3 lx: 22.117 m, 22.048 m */
-	assert_float_equal(k.centre_range_m[0], 31.906, SMOOTH_TOL_M);
-	assert_float_equal(k.edge_range_m[0], 31.858, SMOOTH_TOL_M);
-	assert_float_equal(k.centre_range_m[1], 22.117, SMOOTH_TOL_M);
-	assert_float_equal(k.edge_range_m[1], 22.048, SMOOTH_TOL_M);
+	/* 1 lx: centre 31.90590 m, edge 31.85787 m; 3 lx: 22.11736 m, 22.04802 m */
+	assert_float_equal(k.centre_range_m[0], 31.90590, SMOOTH_TOL_M);
+	assert_float_equal(k.edge_range_m[0], 31.85787, SMOOTH_TOL_M);
+	assert_float_equal(k.centre_range_m[1], 22.11736, SMOOTH_TOL_M);
+	assert_float_equal(k.edge_range_m[1], 22.04802, SMOOTH_TOL_M);
 	/* At 25 m: E = 1 lx where (dy^2 + 25^2 + h^2)^(3/2) = I h, symmetric about the lamp. */
 	assert_float_equal(k.width_m[0], 2 * uniform_reach(i_cd, 1.0, 25.0), 2 * SMOOTH_TOL_M);
-	assert_float_equal(k.width_m[0], 39.648, 2 * SMOOTH_TOL_M);
+	assert_float_equal(k.width_m[0], 39.64778, 2 * SMOOTH_TOL_M);
 	assert_float_equal(k.width_m[1], 0.0, 0.0); /* 1 lx never reaches 50 m */
 	free(d);
 }
@@ -191,8 +191,9 @@ static void road_kpi_hard_cut_off_range(void **state)
 	hl_road_kpi_defaults(&o);
 	/*
 	 * The ramp from I0 to 0 is only 0.15 m long on the road, so E falls from ~50 lx to 0 within
-	 * a step of 0.25 m: sample at 1 cm instead. The interpolated crossing lies between the last
-	 * sample at or above the level and the first below it: one step is the tolerance.
+	 * three default steps of 0.05 m: sample at 1 cm instead. The interpolated crossing lies
+	 * between the last sample at or above the level and the first below it: one step is the
+	 * tolerance.
 	 */
 	o.step_m = 0.01;
 	o.max_range_m = 60.0;
@@ -290,7 +291,7 @@ static void road_kpi_rejects_bad_input(void **state)
 	assert_int_equal(hl_road_kpi_new(2, lamps, &o, &p), -EINVAL);
 	o = ok, o.step_m = -0.25;
 	assert_int_equal(hl_road_kpi_new(2, lamps, &o, &p), -EINVAL);
-	o = ok, o.max_range_m = 0.1;
+	o = ok, o.max_range_m = 0.01; /* shorter than a step */
 	assert_int_equal(hl_road_kpi_new(2, lamps, &o, &p), -EINVAL);
 	o = ok, o.step_m = 1e-5; /* 30 million samples */
 	assert_int_equal(hl_road_kpi_new(2, lamps, &o, &p), -EINVAL);
