@@ -190,7 +190,7 @@ static void iso_label(uint8_t *rgb, int w, int h, struct placed *pl, int scale, 
 	char text[32];
 
 	snprintf(text, sizeof(text), "%g LX", level);
-	for (int t = 0; t < 12; t++) {
+	for (int t = 0; t < 5; t++) {
 		const int dy = (t % 2 ? 1 : -1) * ((t + 1) / 2) * step;
 		struct box b = text_box(text, scale, x + gap + PAD * scale, y - th / 2 + dy);
 
@@ -213,6 +213,8 @@ void hl_overlay_draw(const struct hl_camera *cam, const struct hl_gbuffer *gb, c
 	const int w = cam->width, h = cam->height;
 	const int scale = o->scale > 0 ? o->scale : w >= 960 ? 2 : 1;
 	struct placed pl = { .n = 0 };
+	const struct box clear = { o->keep_clear[0], o->keep_clear[1], o->keep_clear[2],
+				   o->keep_clear[3] };
 	int tip_x[HL_OVERLAY_MAX_ISO], tip_y[HL_OVERLAY_MAX_ISO];
 	bool has[HL_OVERLAY_MAX_ISO];
 	const int n_iso = o->n_iso < HL_OVERLAY_MAX_ISO ? o->n_iso : HL_OVERLAY_MAX_ISO;
@@ -225,6 +227,8 @@ void hl_overlay_draw(const struct hl_camera *cam, const struct hl_gbuffer *gb, c
 		has[k] = iso_line(gb, lux, (float)o->iso_lx[k], o->iso_lines, scale >= 2,
 				  o->iso_white ? white : c, rgb, &tip_x[k], &tip_y[k]);
 	}
+	if (clear.x0 < clear.x1 && clear.y0 < clear.y1)
+		pl.boxes[pl.n++] = clear;
 	distances(cam, o, scale, rgb, &pl);
 	for (int k = 0; k < n_iso; k++) {
 		uint8_t c[3];

@@ -12,7 +12,8 @@
  *                    when the font scale is 2 or more, so they stay visible in large images
  *   iso-lux labels   "<level> LX" in the line's colour beside the line's farthest point to the
  *                    right of the image (in the bird scene: the farthest forward, the tip of the
- *                    area), moved up or down when it would cover another label
+ *                    area), moved up or down by up to two label heights when it would cover
+ *                    another label, left out when that is not enough (small images)
  *
  * Thread-safety: pure functions of their arguments; any thread. Nothing is allocated.
  */
@@ -36,6 +37,7 @@ struct hl_overlay_opts {
 	double distance_last_m; /* the last distance labelled (140: the road's end) */
 	double label_y_m; /* lateral position of the distance labels (vehicle frame, y left) */
 	int scale; /* font scale; 0: 2 from 960 pixels wide, else 1 */
+	int keep_clear[4]; /* x0, y0, x1, y1 (half-open) no label may cover, e.g. a legend */
 };
 
 /* 1, 3, 10, 30 lx in colour, lines drawn; distances every 10 m to 140 m, labels at y = 12 m. */

@@ -499,6 +499,8 @@ static void bird_labels(const struct options *o, const struct hl_camera *cam,
 	}
 	ov.iso_lines = o->view != HL_VIEW_LUX;
 	ov.iso_white = o->view == HL_VIEW_LUX;
+	if (o->view == HL_VIEW_LUX && o->lux.legend)
+		hl_view_lux_legend_box(cam->width, cam->height, ov.keep_clear);
 	hl_overlay_draw(cam, gb, lux, &ov, rgb);
 }
 
