@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "render/font.h"
+#include "render/scene_layout.h"
 
 #define MAX_LABELS 64 /* distance labels (15 on the road) and iso labels (16) with room */
 #define PAD 2 /* pixels of black box around a label, at scale 1 */
@@ -37,8 +38,8 @@ void hl_overlay_defaults(struct hl_overlay_opts *ret)
 		.n_iso = 4,
 		.iso_lx = { 1.0, 3.0, 10.0, 30.0 },
 		.iso_lines = true,
-		.distance_step_m = 10.0,
-		.distance_last_m = 140.0,
+		.distance_step_m = GRID_STEP_M,
+		.distance_last_m = HL_ROAD_LENGTH_M,
 		.label_y_m = 12.0,
 	};
 }
@@ -180,8 +181,8 @@ static bool iso_line(const struct hl_gbuffer *gb, const float *lux, float level,
 }
 
 /*
- * The label of an iso line beside its tip (x, y): to the right, else to the left, shifted up
- * and down by label heights until it covers no other label.
+ * The label of an iso line beside its tip (x, y): to the right, else to the left, shifted down
+ * and up by one and two label heights until it covers no other label; left out if it still does.
  */
 static void iso_label(uint8_t *rgb, int w, int h, struct placed *pl, int scale, int x, int y,
 		      double level, const uint8_t c[3])

@@ -40,7 +40,10 @@ struct hl_overlay_opts {
 	int keep_clear[4]; /* x0, y0, x1, y1 (half-open) no label may cover, e.g. a legend */
 };
 
-/* 1, 3, 10, 30 lx in colour, lines drawn; distances every 10 m to 140 m, labels at y = 12 m. */
+/*
+ * 1, 3, 10, 30 lx in colour, lines drawn; the bird scene's distance lines (every 10 m to the
+ * road's end, 140 m), labelled at y = 12 m.
+ */
 void hl_overlay_defaults(struct hl_overlay_opts *ret);
 
 /* The colour of iso level k (0-based, in the order of iso_lx). */
