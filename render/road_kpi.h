@@ -23,12 +23,6 @@
  * of 0.2° spans metres there), but one step keeps the definition simple; a plan is then 14,404
  * samples and a run some 29,000 lookups.
  *
- * Refinements of the interface as first drafted: the default step (was 0.25 m);
- * HL_ROAD_KPI_WIDTH_HALF_M names how far the width lines reach; the sampling and the -EINVAL
- * conditions of hl_road_kpi_new() are spelt out; the KPIs are defined in docs/rendering.md
- * (this branch has no docs/verdicts.md). The names, the options and struct hl_road_kpi are as
- * drafted.
- *
  * Thread-safety: built by one thread, read-only afterwards; hl_road_kpi_run() may run on several
  * threads at once.
  */
