@@ -22,9 +22,24 @@
 #define G_DELTA_DEG 0.1 /* G = log E(b) - log E(b + 0.1°) */
 #define SCAN_FLOOR 1e-4 /* values below this share of the scan's peak count as this */
 
+#define CHUNK_POS 64 /* positions per chunk of a segment or zone */
+#define TILE 8 /* a zone's lattice in TILE x TILE tiles: compact chunks */
+
 struct plan_req {
 	uint32_t first_pos, n_pos;
 	int n_outside;
+	uint32_t first_chunk, n_chunks; /* segments and zones */
+};
+
+/*
+ * Consecutive positions of a segment or zone and the union of the samples their receivers read
+ * (the footprint). The receiver's mean is a weighted mean with weights summing to at most 1 of
+ * non-negative samples, so no position of a chunk reads more than the footprint's largest
+ * sample: a chunk whose bound cannot beat the highest value found so far is skipped.
+ */
+struct chunk {
+	uint32_t first_pos, n_pos;
+	uint32_t first_fp, n_fp; /* into fp_idx */
 };
 
 struct hl_verdict {
@@ -40,6 +55,10 @@ struct hl_verdict {
 	uint32_t n_taps, cap_taps;
 	uint32_t *tap_idx;
 	float *tap_w;
+	struct chunk *chunks;
+	uint32_t n_chunks, cap_chunks;
+	uint32_t *fp_idx;
+	uint32_t n_fp, cap_fp;
 };
 
 struct quad {
@@ -289,19 +308,89 @@ static int plan_zone(struct hl_verdict *v, struct plan_req *pr, const struct qua
 			hi[a] = fmax(hi[a], pts[k][a]);
 		}
 	}
-	for (double y = ceil(lo[1] / step - 1e-9) * step; y <= hi[1] + 1e-9; y += step)
-		for (double x = ceil(lo[0] / step - 1e-9) * step; x <= hi[0] + 1e-9; x += step) {
-			if (!in_polygon((const double(*)[2])pts, r->n_pts, x, y))
-				continue;
-			rc = position(v, pr, q, x, y);
-			if (rc < 0)
-				return rc;
-		}
+	const long y0 = lround(ceil(lo[1] / step - 1e-9)), y1 = lround(floor(hi[1] / step + 1e-9));
+	const long x0 = lround(ceil(lo[0] / step - 1e-9)), x1 = lround(floor(hi[0] / step + 1e-9));
+
+	/* the lattice tile by tile, so that consecutive positions are neighbours (chunks) */
+	for (long ty = y0; ty <= y1; ty += TILE)
+		for (long tx = x0; tx <= x1; tx += TILE)
+			for (long iy = ty; iy < ty + TILE && iy <= y1; iy++)
+				for (long ix = tx; ix < tx + TILE && ix <= x1; ix++) {
+					const double x = ix * step, y = iy * step;
+
+					if (!in_polygon((const double(*)[2])pts, r->n_pts, x, y))
+						continue;
+					rc = position(v, pr, q, x, y);
+					if (rc < 0)
+						return rc;
+				}
 	for (int k = 0; k < r->n_pts; k++) {
 		rc = plan_line(v, pr, q, pts[k], pts[(k + 1) % r->n_pts]);
 		if (rc < 0)
 			return rc;
 	}
+	return 0;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+	const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* Cuts a segment's or zone's positions into chunks with their footprints. */
+static int plan_chunks(struct hl_verdict *v, struct plan_req *pr)
+{
+	uint32_t tmp[CHUNK_POS * MAX_TAPS];
+
+	pr->first_chunk = v->n_chunks;
+	for (uint32_t p0 = pr->first_pos; p0 < pr->first_pos + pr->n_pos; p0 += CHUNK_POS) {
+		const uint32_t end = p0 + CHUNK_POS < pr->first_pos + pr->n_pos ?
+					     p0 + CHUNK_POS :
+					     pr->first_pos + pr->n_pos;
+		const uint32_t t0 = v->pos_tap[p0], t1 = v->pos_tap[end];
+		uint32_t n = 0;
+		struct chunk *c;
+
+		for (uint32_t t = t0; t < t1; t++)
+			tmp[n++] = v->tap_idx[t];
+		qsort(tmp, n, sizeof(*tmp), cmp_u32);
+		{
+			uint32_t u = 0;
+
+			for (uint32_t k = 0; k < n; k++)
+				if (!u || tmp[u - 1] != tmp[k])
+					tmp[u++] = tmp[k];
+			n = u;
+		}
+		if (v->n_chunks == v->cap_chunks) {
+			const uint32_t cap = v->cap_chunks ? 2 * v->cap_chunks : 64;
+			void *t = realloc(v->chunks, cap * sizeof(*v->chunks));
+
+			if (!t)
+				return -ENOMEM;
+			v->chunks = t;
+			v->cap_chunks = cap;
+		}
+		if (v->n_fp + n > v->cap_fp) {
+			uint32_t cap = v->cap_fp ? v->cap_fp : 4096;
+			void *t;
+
+			while (cap < v->n_fp + n)
+				cap *= 2;
+			t = realloc(v->fp_idx, (size_t)cap * sizeof(*v->fp_idx));
+			if (!t)
+				return -ENOMEM;
+			v->fp_idx = t;
+			v->cap_fp = cap;
+		}
+		memcpy(v->fp_idx + v->n_fp, tmp, n * sizeof(*tmp));
+		c = &v->chunks[v->n_chunks++];
+		*c = (struct chunk){ p0, end - p0, v->n_fp, n };
+		v->n_fp += n;
+	}
+	pr->n_chunks = v->n_chunks - pr->first_chunk;
 	return 0;
 }
 
@@ -339,6 +428,8 @@ static int plan(struct hl_verdict *v)
 		case HL_REQ_IMAX:
 			break;
 		}
+		if (rc >= 0 && (r->kind == HL_REQ_SEGMENT || r->kind == HL_REQ_ZONE))
+			rc = plan_chunks(v, pr);
 		if (rc < 0)
 			return rc;
 	}
@@ -383,6 +474,8 @@ void hl_verdict_free(struct hl_verdict *v)
 	free(v->pos_tap);
 	free(v->tap_idx);
 	free(v->tap_w);
+	free(v->chunks);
+	free(v->fp_idx);
 	free(v);
 }
 
@@ -439,6 +532,62 @@ static double limit_cd(const struct hl_req_limit *l, const struct hl_req_result 
 	return l->of < 0 ? l->cd : l->factor * done[l->of].value_cd;
 }
 
+/* The largest sample of a chunk's footprint: no position of the chunk reads more. */
+static double chunk_bound(const struct hl_verdict *v, const struct chunk *c, const float *a,
+			  const float *b)
+{
+	const uint32_t *idx = v->fp_idx + c->first_fp;
+	float m = 0.0f;
+
+	if (b) {
+		for (uint32_t k = 0; k < c->n_fp; k++)
+			m = a[idx[k]] + b[idx[k]] > m ? a[idx[k]] + b[idx[k]] : m;
+		return 0.5 * m;
+	}
+	for (uint32_t k = 0; k < c->n_fp; k++)
+		m = a[idx[k]] > m ? a[idx[k]] : m;
+	return m;
+}
+
+/*
+ * The highest receiver mean over a segment's or zone's positions: the chunk with the highest
+ * bound first, then every chunk whose bound could beat what was found. The same value as
+ * visiting every position; among equal values the position may be another one.
+ */
+static double chunk_max(const struct hl_verdict *v, const struct plan_req *pr, const float *a,
+			const float *b, uint32_t *ret_at)
+{
+	const struct chunk *cs = v->chunks + pr->first_chunk;
+	double best = -INFINITY, top = -INFINITY;
+	uint32_t first = 0, at = pr->first_pos;
+
+	for (uint32_t c = 0; c < pr->n_chunks; c++) {
+		const double bound = chunk_bound(v, &cs[c], a, b);
+
+		if (bound > top) {
+			top = bound;
+			first = c;
+		}
+	}
+	for (uint32_t k = 0; k <= pr->n_chunks; k++) {
+		/* k == 0: the most promising chunk; then the others in order */
+		const uint32_t c = k == 0 ? first : k - 1;
+
+		if (k > 0 && (c == first || chunk_bound(v, &cs[c], a, b) <= best))
+			continue;
+		for (uint32_t p = cs[c].first_pos; p < cs[c].first_pos + cs[c].n_pos; p++) {
+			const double x = value_at(v, p, a, b);
+
+			if (x > best) {
+				best = x;
+				at = p;
+			}
+		}
+	}
+	*ret_at = at;
+	return best;
+}
+
 static double margin_min(double value, double min)
 {
 	return (value - min) / fmax(min, 1.0);
@@ -477,6 +626,12 @@ bool hl_verdict_eval(const struct hl_verdict *v, const float *a, const float *b,
 				r->at_h_deg = v->pos_h[pr->first_pos];
 				r->at_v_deg = v->pos_v[pr->first_pos];
 			}
+		} else if (pr->n_pos && has_max && !has_min) {
+			uint32_t at;
+
+			r->value_cd = chunk_max(v, pr, a, b, &at);
+			r->at_h_deg = v->pos_h[at];
+			r->at_v_deg = v->pos_v[at];
 		} else if (pr->n_pos) {
 			double lo = INFINITY, hi = -INFINITY;
 			uint32_t at_lo = pr->first_pos, at_hi = pr->first_pos;
