@@ -103,7 +103,8 @@ struct hl_regulation_error {
  * unknown or missing key, a wrong type, an angle or limit that makes no sense, a relative limit
  * naming no earlier requirement), -ENOMEM. err says where.
  */
-int hl_regulation_read(const char *path, struct hl_regulation **ret, struct hl_regulation_error *err);
+int hl_regulation_read(const char *path, struct hl_regulation **ret,
+		       struct hl_regulation_error *err);
 /* The same from text; name stands for the file in messages. */
 int hl_regulation_parse(const char *text, const char *name, struct hl_regulation **ret,
 			struct hl_regulation_error *err);
