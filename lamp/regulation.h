@@ -15,6 +15,7 @@
 #define HL_LAMP_REGULATION_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "lamp/lid.h"
 
@@ -116,6 +117,13 @@ void hl_regulation_free(struct hl_regulation *reg);
  */
 int hl_regulation_load(const char *dir, const char *id, struct hl_regulation **ret,
 		       struct hl_regulation_error *err);
+
+/*
+ * The shipped sets' directory: share/hdlamp/regulations beside the running executable's bin/
+ * directory (/usr/bin/hdlamp -> /usr/share/hdlamp/regulations; in the build tree the build links
+ * build/share/hdlamp/regulations to the source's regulations/). 0 or -errno.
+ */
+int hl_regulation_default_dir(char *buf, size_t size);
 
 /*
  * The ids of every set in dir, sorted, into a NULL-terminated array the caller frees with

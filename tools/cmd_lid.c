@@ -20,6 +20,7 @@ static void usage(FILE *f)
 		"       hdlamp lid plot FILE [PRESET.json --lamp left|right] --out D.png\n"
 		"       hdlamp lid import --manifest M.ini --out LAMP.lid.exr\n"
 		"       hdlamp lid export FILE --source N|NAME --out F.ies|F.csv [--angles A|B|C]\n"
+		"       hdlamp lid check FILE [PRESET.json --lamp left|right] --regulation ID\n"
 		"\n"
 		"info     grid, angle system, sources with their non-zero boxes and peaks\n"
 		"combine  L = sum_k (v_k / 63) L_k for one lamp of the preset, written as a\n"
@@ -28,7 +29,9 @@ static void usage(FILE *f)
 		"         (without one every source is drawn at full current)\n"
 		"import   a LID file from measured IES, EULUMDAT and CSV files (manifest)\n"
 		"export   one source as an IES or CSV goniometer table\n"
-		"('hdlamp lid import --help', 'hdlamp lid export --help' for their options)\n");
+		"check    the verdict of a regulation set (test points, segments, zones) on the\n"
+		"         lamp's distribution; exit 0 pass, 1 fail\n"
+		"('hdlamp lid import|export|check --help' for their options)\n");
 }
 
 static int load(const char *path, struct hl_lid **ret)
@@ -91,7 +94,8 @@ static int info(const char *path)
 }
 
 /* The lamp's distribution for the preset (or all sources at 1 when preset_path is NULL). */
-static int combined(const struct hl_lid *lid, const char *preset_path, int side, float **ret)
+int hl_cli_lid_distribution(const struct hl_lid *lid, const char *preset_path, int side,
+			    float **ret)
 {
 	const struct hl_lid_grid *g = hl_lid_grid(lid);
 	const int n = hl_lid_n_sources(lid);
@@ -175,6 +179,8 @@ int hl_cmd_lid(int argc, char **argv)
 		return hl_cmd_lid_import(argc - 1, argv + 1);
 	if (strcmp(verb, "export") == 0)
 		return hl_cmd_lid_export(argc - 1, argv + 1);
+	if (strcmp(verb, "check") == 0)
+		return hl_cmd_lid_check(argc - 1, argv + 1);
 	optind = 2;
 	while ((c = getopt_long(argc, argv, "l:o:h", opts, NULL)) != -1) {
 		switch (c) {
@@ -228,7 +234,7 @@ int hl_cmd_lid(int argc, char **argv)
 	}
 	if (load(file, &lid) < 0)
 		return HL_EXIT_FAIL;
-	if (combined(lid, preset, side, &dense) < 0)
+	if (hl_cli_lid_distribution(lid, preset, side, &dense) < 0)
 		goto out;
 	if (strcmp(verb, "combine") == 0) {
 		struct hl_lid_error err;

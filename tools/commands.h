@@ -15,5 +15,16 @@ int hl_cmd_render(int argc, char **argv);
 /* hdlamp lid import / export (cmd_lid_import.c); argv[0] is the verb. */
 int hl_cmd_lid_import(int argc, char **argv);
 int hl_cmd_lid_export(int argc, char **argv);
+/* hdlamp lid check (cmd_lid_check.c); argv[0] is the verb. */
+int hl_cmd_lid_check(int argc, char **argv);
+
+struct hl_lid;
+/*
+ * The distribution of one lamp of a LID file: a combined file as it is, a source file under the
+ * preset's values for side (every source at full current without a preset). Prints what is
+ * wrong. 0 or -errno; *ret is malloc'd (grid layout, cd).
+ */
+int hl_cli_lid_distribution(const struct hl_lid *lid, const char *preset_path, int side,
+			    float **ret);
 
 #endif
