@@ -395,6 +395,7 @@ static int parse_aim(const struct ctx *c, struct hl_regulation *reg, json_t *j)
 	if (!json_is_string(method) || strcmp(json_string_value(method), "cutoff"))
 		return fail(c, line, "'aim': 'method' expected \"none\" or \"cutoff\"");
 	reg->aim = HL_REG_AIM_CUTOFF;
+	reg->aim_g_max = INFINITY; /* g_max is optional: FMVSS 108 sets only a minimum */
 	lin = json_object_get(j, "linearity_h");
 	if (get_angle(c, line, j, "scan_h", 'h', &reg->aim_scan_h_deg) < 0 ||
 	    get_angle(c, line, j, "cutoff_v", 'v', &reg->aim_cutoff_v_deg) < 0)
@@ -415,7 +416,8 @@ static int parse_aim(const struct ctx *c, struct hl_regulation *reg, json_t *j)
 	if (get_number(c, line, j, "linearity_max_deg", 0.0, 5.0, &reg->aim_linearity_max_deg) <
 		    0 ||
 	    get_number(c, line, j, "g_min", 0.0, 10.0, &reg->aim_g_min) < 0 ||
-	    get_number(c, line, j, "g_max", 0.0, 10.0, &reg->aim_g_max) < 0)
+	    (json_object_get(j, "g_max") &&
+	     get_number(c, line, j, "g_max", 0.0, 10.0, &reg->aim_g_max) < 0))
 		return -EBADMSG;
 	if (reg->aim_g_min > reg->aim_g_max)
 		return fail(c, line, "'aim': g_min is above g_max");

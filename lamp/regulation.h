@@ -88,7 +88,7 @@ struct hl_regulation {
 	double aim_cutoff_v_deg; /* where the inflection point goes (-0.57) */
 	double aim_linearity_h_deg[2]; /* the other scans of the linearity check (-1.5, -3.5) */
 	double aim_linearity_max_deg; /* largest spread of the three inflection points (0.2) */
-	double aim_g_min, aim_g_max; /* the sharpness limits of G (0.13, 0.40) */
+	double aim_g_min, aim_g_max; /* the sharpness limits of G (0.13, 0.40); no max: inf */
 	int n_requirements;
 	struct hl_requirement req[HL_REG_MAX_REQUIREMENTS];
 };

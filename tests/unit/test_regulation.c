@@ -213,7 +213,7 @@ static void regulation_loads_by_id_and_lists(void **state)
 }
 
 /* Every shipped set in regulations/ parses, its id is its file name, each value is cited. */
-static void __attribute__((unused)) regulation_shipped_sets_load(void **state)
+static void regulation_shipped_sets_load(void **state)
 {
 	(void)state;
 	const char *src = getenv("HL_SOURCE_DIR");
@@ -245,7 +245,7 @@ int main(void)
 		cmocka_unit_test(regulation_angles_as_written),
 		cmocka_unit_test(regulation_rejections_say_where),
 		cmocka_unit_test(regulation_loads_by_id_and_lists),
-		/* SHIPPED */
+		cmocka_unit_test(regulation_shipped_sets_load),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
