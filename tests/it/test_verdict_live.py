@@ -120,6 +120,7 @@ def test_glarefree_passes_the_oncoming_window_that_high_beam_glares_into(hdlamp,
         m = d.wait_frames(30)
         status = json.loads(d.get("/status"))
         capture = json.loads(d.get("/capture", method="POST"))["path"]
+        page = d.get("/")
     finally:
         summary = d.stop()
 
@@ -195,6 +196,9 @@ def test_glarefree_passes_the_oncoming_window_that_high_beam_glares_into(hdlamp,
     assert (r["margin"] > 0) == (preset == "glarefree")
     hdr = run("exrheader", os.path.join(capture, "hdr.exr")).stdout
     assert "hdlamp:verdict (type string)" in hdr and '"Oncoming 50 m"' in hdr
+
+    # the live page has the panel that lists the sets from /status
+    assert '<div id="verdicts">' in page and "showVerdicts(status.verdicts)" in page
 
     # the exit status line carries the counts
     assert set_status(summary, ADB)["frames"] >= frames[f'set="{ADB}"']
