@@ -160,7 +160,8 @@ static int parse_sets(struct hl_config *cfg, const char *value, char *what, size
 			return -EINVAL;
 		}
 		if (n == HL_CONFIG_MAX_SETS) {
-			snprintf(what, what_size, "at most %d sets (one bit each in the frame header)",
+			snprintf(what, what_size,
+				 "at most %d sets (one bit each in the frame header)",
 				 HL_CONFIG_MAX_SETS);
 			return -EINVAL;
 		}
@@ -168,7 +169,8 @@ static int parse_sets(struct hl_config *cfg, const char *value, char *what, size
 		ids[n][len] = '\0';
 		for (int i = 0; i < n; i++)
 			if (strcmp(ids[i], ids[n]) == 0) {
-				snprintf(what, what_size, "'%.*s' is named twice", HL_CONFIG_SET_ID, ids[n]);
+				snprintf(what, what_size, "'%.*s' is named twice", HL_CONFIG_SET_ID,
+					 ids[n]);
 				return -EINVAL;
 			}
 		n++;

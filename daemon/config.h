@@ -65,7 +65,8 @@ struct hl_config {
 	char gpio_trigger_edge[HL_CONFIG_NAME]; /* rising | falling | both */
 	char gpio_ecu_enable[HL_CONFIG_NAME];
 	/* [verdict] */
-	char verdict_sets[HL_CONFIG_MAX_SETS][HL_CONFIG_SET_ID]; /* set ids, in order; bit i = set i */
+	char verdict_sets[HL_CONFIG_MAX_SETS]
+			 [HL_CONFIG_SET_ID]; /* set ids, in order; bit i = set i */
 	int n_verdict_sets; /* 0: no verdicts */
 	char regulations[HL_CONFIG_PATH]; /* directory of the sets' ID.json files */
 	bool traffic_left; /* left-hand traffic: the sets' H mirrored */

@@ -99,8 +99,10 @@ static int add_set(struct hl_verdicts *v, const struct hl_config *cfg, int i,
 		for (int l = 0; l < v->n_lamps && rc == 0; l++) {
 			s->part[l] = (struct hl_verdicts_part){ l, v->n_results };
 			v->n_results += s->reg->n_requirements;
-			if (l > 0 && same_grid(grids[0], grids[l]) && same_aim(&poses[0], &poses[l])) {
-				s->plan[l] = s->plan[0]; /* the same plan: one lamp's worth of memory */
+			if (l > 0 && same_grid(grids[0], grids[l]) &&
+			    same_aim(&poses[0], &poses[l])) {
+				s->plan[l] =
+					s->plan[0]; /* the same plan: one lamp's worth of memory */
 				continue;
 			}
 			options_of(v, &poses[l], &opts);
@@ -109,8 +111,9 @@ static int add_set(struct hl_verdicts *v, const struct hl_config *cfg, int i,
 		}
 	}
 	if (rc < 0)
-		snprintf(err, err_size, "verdict.sets: set '%s': cannot plan it on the lamps' grid: %s",
-			 id, strerror(-rc));
+		snprintf(err, err_size,
+			 "verdict.sets: set '%s': cannot plan it on the lamps' grid: %s", id,
+			 strerror(-rc));
 	return rc;
 }
 
@@ -157,7 +160,8 @@ int hl_verdicts_new(const struct hl_config *cfg, int n_lamps, const char *const 
 		lamps[l] = (struct hl_headlight_lamp){ .pose = poses[l], .grid = *grids[l] };
 	rc = hl_road_kpi_new(n_lamps, lamps, &v->road_opts, &v->road);
 	if (rc < 0) {
-		snprintf(err, err_size, "road: cannot plan the road KPIs (road.levels, road.width_at): %s",
+		snprintf(err, err_size,
+			 "road: cannot plan the road KPIs (road.levels, road.width_at): %s",
 			 strerror(-rc));
 		goto err;
 	}
@@ -231,12 +235,11 @@ uint32_t hl_verdicts_eval(const struct hl_verdicts *v, uint32_t active, const fl
 			continue;
 		for (int j = 0; j < s->n_parts; j++) {
 			const int l = s->part[j].lamp;
-			const bool pass =
-				l == HL_VERDICTS_PAIR ?
-					hl_verdict_eval(s->plan[j], dist[0], dist[1],
-							results + s->part[j].first) :
-					hl_verdict_eval(s->plan[j], dist[l], NULL,
-							results + s->part[j].first);
+			const bool pass = l == HL_VERDICTS_PAIR ?
+						  hl_verdict_eval(s->plan[j], dist[0], dist[1],
+								  results + s->part[j].first) :
+						  hl_verdict_eval(s->plan[j], dist[l], NULL,
+								  results + s->part[j].first);
 
 			if (!pass)
 				failed |= 1u << i;
@@ -303,12 +306,12 @@ static void json_part(const struct hl_verdicts *v, int i, int j, const struct hl
 
 	fputs("{\"lamp\":", out);
 	json_string(out, hl_verdicts_part_name(v, i, j));
-	fprintf(out, ",\"pass\":%s,\"requirements\":[",
-		part_pass(s->reg, r) ? "true" : "false");
+	fprintf(out, ",\"pass\":%s,\"requirements\":[", part_pass(s->reg, r) ? "true" : "false");
 	for (int k = 0; k < s->reg->n_requirements; k++) {
 		fputs(k ? ",{\"id\":" : "{\"id\":", out);
 		json_string(out, s->reg->req[k].id);
-		fprintf(out, ",\"kind\":\"%s\",\"value_cd\":", hl_req_kind_name(s->reg->req[k].kind));
+		fprintf(out,
+			",\"kind\":\"%s\",\"value_cd\":", hl_req_kind_name(s->reg->req[k].kind));
 		json_number(out, r[k].value_cd);
 		fputs(",\"min_cd\":", out);
 		json_number(out, r[k].min_cd);
@@ -325,13 +328,13 @@ static void json_part(const struct hl_verdicts *v, int i, int j, const struct hl
 	fputs("]}", out);
 }
 
-void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
-		      const uint64_t *frames, const uint64_t *failed_frames, FILE *out)
+void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, const uint64_t *frames,
+		      const uint64_t *failed_frames, FILE *out)
 {
 	const struct hl_road_kpi_options *o = &v->road_opts;
 
-	fprintf(out, "\"verdicts\":{\"traffic\":\"%s\",\"frame\":",
-		v->traffic_left ? "left" : "right");
+	fprintf(out,
+		"\"verdicts\":{\"traffic\":\"%s\",\"frame\":", v->traffic_left ? "left" : "right");
 	if (f)
 		fprintf(out, "%" PRIu64, f->hdr.seq);
 	else
@@ -348,9 +351,9 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
 		fprintf(out, ",\"applies\":\"%s\",\"evaluated\":%s,\"pass\":%s",
 			s->reg->applies == HL_REG_PAIR_HALF ? "pair_half" : "each_lamp",
 			evaluated ? "true" : "false",
-			!evaluated			      ? "null" :
+			!evaluated			 ? "null" :
 			(f->hdr.sets_failed & (1u << i)) ? "false" :
-							     "true");
+							   "true");
 		if (frames)
 			fprintf(out, ",\"frames\":%" PRIu64, frames[i]);
 		if (failed_frames)
@@ -423,12 +426,13 @@ void hl_verdicts_metrics(const struct hl_verdicts *v, const struct hl_frame *f,
 				continue;
 			for (int j = 0; j < s->n_parts; j++)
 				for (int k = 0; k < s->reg->n_requirements; k++)
-					hl_prom_gauge(
-						p, "hdlamp_requirement_margin",
-						(const char *const[]){
-							"set", s->reg->id, "id", s->reg->req[k].id,
-							"lamp", hl_verdicts_part_name(v, i, j), NULL },
-						f->results[s->part[j].first + k].margin);
+					hl_prom_gauge(p, "hdlamp_requirement_margin",
+						      (const char *const[]){
+							      "set", s->reg->id, "id",
+							      s->reg->req[k].id, "lamp",
+							      hl_verdicts_part_name(v, i, j),
+							      NULL },
+						      f->results[s->part[j].first + k].margin);
 		}
 	}
 	if (!f)

@@ -87,8 +87,8 @@ void hl_verdicts_road_to_header(const struct hl_road_kpi *k, struct hl_frame_hea
  * "verdicts":{"traffic":...,"sets":[...]},"road":{...}. failed_frames and frames: per set, the
  * counts so far (NULL: left out). Any thread, on a frame it holds.
  */
-void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
-		      const uint64_t *frames, const uint64_t *failed_frames, FILE *out);
+void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, const uint64_t *frames,
+		      const uint64_t *failed_frames, FILE *out);
 /*
  * The metric families of a frame's verdicts and road KPIs (f NULL: no frame yet, the counters
  * only): hdlamp_verdict_pass, hdlamp_requirement_margin, hdlamp_verdict_failed_frames_total,

@@ -213,10 +213,8 @@ static void config_verdict_and_road_keys(void **state)
 			 -EINVAL);
 	assert_string_equal(err.msg, "command line: key 'road.width_at': '25,500': expected two "
 				     "numbers 1..300, as A,B");
-	assert_int_equal(hl_config_set_arg(&c, "road.levels=1,nan", "command line", &err),
-			 -EINVAL);
-	assert_int_equal(hl_config_set_arg(&c, "road.levels=1,3,5", "command line", &err),
-			 -EINVAL);
+	assert_int_equal(hl_config_set_arg(&c, "road.levels=1,nan", "command line", &err), -EINVAL);
+	assert_int_equal(hl_config_set_arg(&c, "road.levels=1,3,5", "command line", &err), -EINVAL);
 	assert_true(c.road_levels_lx[0] == 0.5 && c.road_levels_lx[1] == 2.0);
 }
 

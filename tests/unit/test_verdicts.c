@@ -124,19 +124,18 @@ static void verdicts_pair_set_needs_two_lamps_on_one_grid_and_aim(void **state)
 	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, &v, err,
 					 sizeof(err)),
 			 -EINVAL);
-	assert_string_equal(err, "verdict.sets: set 'test-adb-glare' applies to half the sum of "
-				 "the pair; the lamps 'left' and 'right' need the same LID grid and "
-				 "the same aim");
+	assert_string_equal(err,
+			    "verdict.sets: set 'test-adb-glare' applies to half the sum of "
+			    "the pair; the lamps 'left' and 'right' need the same LID grid and "
+			    "the same aim");
 	/* an each_lamp set is fine on one lamp, or on lamps aimed apart */
 	use_sets(&fx->cfg, "test-each-lamp", NULL);
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 1, names, fx->grids, fx->poses, &v, err,
-					 sizeof(err)),
-			 0);
+	assert_int_equal(
+		hl_verdicts_new(&fx->cfg, 1, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
 	assert_int_equal(hl_verdicts_n_parts(v, 0), 1);
 	hl_verdicts_free(v);
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, &v, err,
-					 sizeof(err)),
-			 0);
+	assert_int_equal(
+		hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, &v, err, sizeof(err)), 0);
 	assert_int_equal(hl_verdicts_n_parts(v, 0), 2);
 	hl_verdicts_free(v);
 }
@@ -168,9 +167,8 @@ static void verdicts_layout_and_results_are_the_evaluators(void **state)
 	int n;
 
 	use_sets(&fx->cfg, "test-adb-glare", "test-each-lamp");
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err,
-					 sizeof(err)),
-			 0);
+	assert_int_equal(
+		hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
 	assert_int_equal(hl_verdicts_n_sets(v), 2);
 	assert_string_equal(hl_verdicts_set(v, 0)->id, "test-adb-glare");
 	assert_string_equal(hl_verdicts_set(v, 1)->id, "test-each-lamp");
@@ -234,9 +232,8 @@ static void verdicts_road_kpis_are_the_planners(void **state)
 	cfg.n_verdict_sets = 0; /* the road KPIs come without sets */
 	cfg.road_levels_lx[0] = 2.0;
 	cfg.road_width_at_m[1] = 40.0;
-	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &v, err,
-					 sizeof(err)),
-			 0);
+	assert_int_equal(
+		hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
 	assert_int_equal(hl_verdicts_n_results(v), 0);
 	hl_verdicts_road(v, (const float *const *)fx->high, &got);
 	hl_road_kpi_defaults(&o);
@@ -286,9 +283,8 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	char err[1024], json[16384], prom[16384], line[512];
 
 	use_sets(&fx->cfg, "test-adb-glare", "test-each-lamp");
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err,
-					 sizeof(err)),
-			 0);
+	assert_int_equal(
+		hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
 	f.n_results = hl_verdicts_n_results(v);
 	f.results = calloc(f.n_results, sizeof(*f.results));
 	assert_non_null(f.results);
@@ -321,9 +317,11 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 		 f.hdr.centre_range_m[0], f.hdr.centre_range_m[1]);
 	assert_non_null(strstr(json, line));
 
-	assert_non_null(strstr(prom, "hdlamp_verdict_failed_frames_total{set=\"test-adb-glare\"} 3\n"
-				     "hdlamp_verdict_failed_frames_total{set=\"test-each-lamp\"} 0\n"));
-	assert_non_null(strstr(prom, "hdlamp_verdict_pass{set=\"test-adb-glare\",lamp=\"pair\"} 0\n"));
+	assert_non_null(strstr(prom,
+			       "hdlamp_verdict_failed_frames_total{set=\"test-adb-glare\"} 3\n"
+			       "hdlamp_verdict_failed_frames_total{set=\"test-each-lamp\"} 0\n"));
+	assert_non_null(
+		strstr(prom, "hdlamp_verdict_pass{set=\"test-adb-glare\",lamp=\"pair\"} 0\n"));
 	assert_null(strstr(prom, "hdlamp_verdict_pass{set=\"test-each-lamp\""));
 	snprintf(line, sizeof(line),
 		 "hdlamp_requirement_margin{set=\"test-adb-glare\",id=\"Oncoming 50 m\","
@@ -342,12 +340,14 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 				     "\"H-V \\\"centre\\\"\",\"kind\":\"point\","));
 	assert_non_null(strstr(prom, "hdlamp_requirement_margin{set=\"test-each-lamp\",id=\"H-V "
 				     "\\\"centre\\\"\",lamp=\"right\"} "));
-	assert_non_null(strstr(prom, "hdlamp_verdict_pass{set=\"test-each-lamp\",lamp=\"left\"} 1\n"));
+	assert_non_null(
+		strstr(prom, "hdlamp_verdict_pass{set=\"test-each-lamp\",lamp=\"left\"} 1\n"));
 
 	/* no frame yet: counters only, no gauges; road values null */
 	texts(v, NULL, json, sizeof(json), prom, sizeof(prom));
 	assert_non_null(strstr(json, "\"frame\":null"));
-	assert_non_null(strstr(json, "\"centre_range_m\":null,\"edge_range_m\":null,\"width_m\":null}"));
+	assert_non_null(
+		strstr(json, "\"centre_range_m\":null,\"edge_range_m\":null,\"width_m\":null}"));
 	assert_null(strstr(prom, "hdlamp_verdict_pass"));
 	assert_null(strstr(prom, "hdlamp_road_range_meters"));
 	assert_non_null(strstr(prom, "hdlamp_verdict_frames_total{set=\"test-adb-glare\"} 7\n"));

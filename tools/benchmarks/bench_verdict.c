@@ -172,8 +172,7 @@ int main(int argc, char **argv)
 	}
 	n_sets = cfg.n_verdict_sets;
 	if (hl_model_hd84(HL_SIDE_LEFT, &lamps[0]) < 0 ||
-	    hl_model_hd84(HL_SIDE_RIGHT, &lamps[1]) < 0 ||
-	    hl_preset_new(HL_HD84_SOURCES, &p) < 0) {
+	    hl_model_hd84(HL_SIDE_RIGHT, &lamps[1]) < 0 || hl_preset_new(HL_HD84_SOURCES, &p) < 0) {
 		fprintf(stderr, "hdlamp-bench-verdict: cannot build the HD84 lamps\n");
 		goto out;
 	}
@@ -206,15 +205,15 @@ int main(int argc, char **argv)
 	if (!f)
 		goto out;
 	all = n_sets ? (uint32_t)((1ull << n_sets) - 1) : 0;
-	fprintf(f, "{\n  \"what\": \"live verdicts per frame, HD84 pair, low/high alternating\",\n");
+	fprintf(f,
+		"{\n  \"what\": \"live verdicts per frame, HD84 pair, low/high alternating\",\n");
 	fprintf(f, "  \"regulations\": \"%s\",\n  \"runs\": %d,\n  \"plan_ms\": %.1f,\n",
 		cfg.regulations, runs, t_plan);
 	fprintf(f, "  \"target_all_sets_us\": %.0f,\n  \"sets\": [\n", TARGET_US);
 	for (int s = 0; s < n_sets; s++) {
 		const struct hl_regulation *reg = hl_verdicts_set(v, s);
-		const struct pct one = time_frames(v, 1u << s, false,
-						   (const float *const(*)[2])dense, res, t, runs,
-						   &failed);
+		const struct pct one = time_frames(
+			v, 1u << s, false, (const float *const(*)[2])dense, res, t, runs, &failed);
 
 		fprintf(f,
 			"    {\"id\": \"%s\", \"applies\": \"%s\", \"requirements\": %d, "
@@ -225,9 +224,8 @@ int main(int argc, char **argv)
 	}
 	fprintf(f, "  ],\n  ");
 	{
-		const struct pct sets_all = time_frames(v, all, false,
-							(const float *const(*)[2])dense, res, t,
-							runs, NULL);
+		const struct pct sets_all = time_frames(
+			v, all, false, (const float *const(*)[2])dense, res, t, runs, NULL);
 		const struct pct road = time_frames(v, 0, true, (const float *const(*)[2])dense,
 						    res, t, runs, NULL);
 		const struct pct frame = time_frames(v, all, true, (const float *const(*)[2])dense,
