@@ -23,6 +23,7 @@ enum kind {
 	SETS, /* comma-separated set ids into verdict_sets, n_verdict_sets */
 	TRAFFIC, /* right | left into traffic_left */
 	PAIR, /* two positive numbers "a,b" into a double[2] (min, max bound each) */
+	MODES, /* MODE:ID+ID,MODE:ID,... (checked against the DBC and the sets at start) */
 };
 
 struct key {
@@ -90,6 +91,9 @@ static const struct key keys[] = {
 	  "directory of the regulation sets (ID.json)" },
 	{ "verdict", "traffic", TRAFFIC, F(traffic_left), 0, 0,
 	  "right | left: left-hand traffic mirrors the sets' H" },
+	{ "verdict", "modes", MODES, F(verdict_modes), 0, 0,
+	  "MODE:ID+ID,...: the sets evaluated in each beam mode (the DBC's HdlBeamMode signal's "
+	  "VAL_ names); empty = every set on every frame" },
 	{ "road", "levels", PAIR, F(road_levels_lx), 0.01, 1000,
 	  "illuminance levels (lx) of the road ranges, two, comma separated" },
 	{ "road", "width_at", PAIR, F(road_width_at_m), 1, 300,
@@ -130,6 +134,30 @@ static bool valid_set_id(const char *s, size_t n)
 	for (size_t i = 0; i < n; i++)
 		if (!isalnum((unsigned char)s[i]) && !strchr("._+-", s[i]))
 			return false;
+	return true;
+}
+
+/* MODE:ID+ID,... : names and ids of the set id's characters, each entry with one ':'. */
+static bool valid_modes(const char *v)
+{
+	const char *entry = v;
+
+	while (*entry) {
+		const char *end = strchr(entry, ','), *colon = strchr(entry, ':');
+
+		if (!end)
+			end = entry + strlen(entry);
+		if (!colon || colon >= end || colon == entry)
+			return false;
+		for (const char *c = entry; c < end; c++)
+			if (c != colon && !isalnum((unsigned char)*c) && !strchr("._+-", *c))
+				return false;
+		if (!*end)
+			break;
+		entry = end + 1;
+		if (!*entry)
+			return false;
+	}
 	return true;
 }
 
@@ -303,6 +331,14 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 		if (parse_sets(cfg, value, what, sizeof(what)) < 0)
 			return bad(err, origin, line, section, name, what);
 		return 0;
+	case MODES:
+		if (!valid_modes(value))
+			return bad(err, origin, line, section, name,
+				   "expected MODE:ID+ID,MODE:ID,... (a mode's sets joined by +, "
+				   "no spaces)");
+		if (copy_string(at, HL_CONFIG_PATH, value) < 0)
+			return bad(err, origin, line, section, name, "too long");
+		return 0;
 	case TRAFFIC:
 		if (strcmp(value, "right") != 0 && strcmp(value, "left") != 0)
 			return bad(err, origin, line, section, name, "expected right or left");
@@ -465,6 +501,7 @@ void hl_config_print(const struct hl_config *cfg, void *file)
 		case PATH:
 		case BACKEND:
 		case EDGE:
+		case MODES:
 			fprintf(f, "%s\n", at);
 			break;
 		case BOOL:

@@ -70,6 +70,7 @@ struct hl_config {
 	int n_verdict_sets; /* 0: no verdicts */
 	char regulations[HL_CONFIG_PATH]; /* directory of the sets' ID.json files */
 	bool traffic_left; /* left-hand traffic: the sets' H mirrored */
+	char verdict_modes[HL_CONFIG_PATH]; /* MODE:ID+ID,...: the sets per HdlBeamMode value */
 	/* [road] */
 	double road_levels_lx[HL_CONFIG_ROAD_LEVELS]; /* illuminance levels of the ranges */
 	double road_width_at_m[HL_CONFIG_ROAD_WIDTHS]; /* where the width is taken */

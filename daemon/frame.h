@@ -80,6 +80,7 @@ struct hl_frame {
 	 * sets in hdr.sets_evaluated) */
 	struct hl_req_result *results;
 	int n_results;
+	int64_t beam_mode; /* the HdlBeamMode value the sets were chosen by, -1: none */
 };
 
 #endif

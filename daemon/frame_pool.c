@@ -75,6 +75,7 @@ int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct h
 				goto err;
 		}
 		f->n_results = shape->n_results;
+		f->beam_mode = -1;
 		f->dist_width = shape->dist_width;
 		f->dist_height = shape->dist_height;
 		f->n_sources = shape->n_sources;

@@ -393,15 +393,19 @@ static int setup_verdicts(struct live *lv)
 {
 	const struct hl_lid_grid *grids[HL_FRAME_MAX_LAMPS] = { NULL };
 	struct hl_lamp_pose poses[HL_FRAME_MAX_LAMPS];
+	struct hl_verdicts_mode_source mode = { -1, NULL };
 	char err[1024];
 	int rc;
 
 	for (int l = 0; l < lv->n_lamps; l++) {
 		grids[l] = hl_lid_grid(lv->lids[l]);
 		hl_lamp_pose_default(l, &poses[l]); /* as the renderer places them */
+		if (mode.lamp < 0 && hl_assembler_mode_signal(lv->a, l))
+			mode = (struct hl_verdicts_mode_source){ l, hl_assembler_mode_signal(lv->a,
+											     l) };
 	}
-	rc = hl_verdicts_new(&lv->cfg, lv->n_lamps, lv->lamp_names, grids, poses, &lv->verdicts,
-			     err, sizeof(err));
+	rc = hl_verdicts_new(&lv->cfg, lv->n_lamps, lv->lamp_names, grids, poses, &mode,
+			     &lv->verdicts, err, sizeof(err));
 	if (rc < 0) {
 		log_msg("%s", err);
 		lv->config_error = rc != -ENOMEM;
@@ -414,6 +418,12 @@ static int setup_verdicts(struct live *lv)
 			reg->applies == HL_REG_PAIR_HALF ? "half the pair's sum" : "each lamp",
 			reg->title);
 	}
+	if (mode.lamp >= 0)
+		log_msg("verdict: beam mode from signal %s of lamp '%s'%s", mode.signal->name,
+			lv->lamp_names[mode.lamp],
+			lv->cfg.verdict_modes[0] ?
+				"" :
+				" (verdict.modes is empty: every set on every frame)");
 	return 0;
 }
 

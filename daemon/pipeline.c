@@ -34,7 +34,6 @@ struct hl_pipeline {
 	struct hl_ring *ring;
 	struct hl_frame_pool *pool;
 	const struct hl_verdicts *verdicts; /* NULL: none */
-	uint32_t all_sets; /* a bit per configured verdict set */
 	struct hl_pipeline_hooks hooks;
 
 	/* live settings, changed by reload under the lock */
@@ -86,8 +85,6 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 		return -EINVAL; /* the pool's frames cannot hold the results */
 	}
 	p->verdicts = verdicts;
-	if (verdicts && hl_verdicts_n_sets(verdicts) > 0)
-		p->all_sets = (uint32_t)((1ull << hl_verdicts_n_sets(verdicts)) - 1);
 	if (hooks)
 		p->hooks = *hooks;
 	p->exposure_ev = cfg->exposure_ev;
@@ -331,16 +328,21 @@ static uint8_t raw_of(const struct hl_source_scale *s, float i)
 
 /*
  * The frame's verdicts and road KPIs from its distributions, into the frame (before it is
- * published, so every reader sees them with the frame). Returns the time taken, ms.
+ * published, so every reader sees them with the frame): the sets of the beam mode the mode
+ * lamp's cycle carries (all without one). Returns the time taken, ms.
  */
 static double check(struct hl_pipeline *p, struct hl_frame *f)
 {
 	const int64_t t0 = hl_clock_monotonic_ns();
 	const float *dist[HL_FRAME_MAX_LAMPS] = { f->dist[0], p->n_lamps > 1 ? f->dist[1] : NULL };
+	const int ml = hl_verdicts_mode_lamp(p->verdicts);
 	struct hl_road_kpi road;
 
-	f->hdr.sets_evaluated = p->all_sets;
-	f->hdr.sets_failed = hl_verdicts_eval(p->verdicts, p->all_sets, dist, f->results);
+	f->beam_mode = ml >= 0 && (p->snap->lamps[ml].status & HL_LAMP_VALID) ?
+			       p->snap->lamps[ml].mode :
+			       -1;
+	f->hdr.sets_evaluated = hl_verdicts_active(p->verdicts, f->beam_mode);
+	f->hdr.sets_failed = hl_verdicts_eval(p->verdicts, f->hdr.sets_evaluated, dist, f->results);
 	hl_verdicts_road(p->verdicts, dist, &road);
 	hl_verdicts_road_to_header(&road, &f->hdr);
 	return (double)(hl_clock_monotonic_ns() - t0) / 1e6;

@@ -23,6 +23,15 @@ struct hl_verdicts {
 	struct set sets[HL_VERDICTS_MAX_SETS];
 	struct hl_road_kpi_options road_opts;
 	struct hl_road_kpi_plan *road;
+	/* beam modes: the signal's named values and the sets of each (verdict.modes) */
+	int mode_lamp; /* -1: no mode signal */
+	const struct hl_dbc_signal *mode_signal;
+	bool by_mode; /* verdict.modes given */
+	int n_modes;
+	struct {
+		int64_t raw;
+		uint32_t sets;
+	} modes[HL_VERDICTS_MAX_MODES];
 };
 
 static bool same_grid(const struct hl_lid_grid *a, const struct hl_lid_grid *b)
@@ -117,9 +126,91 @@ static int add_set(struct hl_verdicts *v, const struct hl_config *cfg, int i,
 	return rc;
 }
 
+/* The set's bit, or 0 when verdict.sets does not name it. */
+static uint32_t set_bit(const struct hl_verdicts *v, const char *id, size_t len)
+{
+	for (int i = 0; i < v->n_sets; i++)
+		if (strlen(v->sets[i].reg->id) == len && strncmp(v->sets[i].reg->id, id, len) == 0)
+			return 1u << i;
+	return 0;
+}
+
+/* verdict.modes against the mode signal's VAL_ names and the sets. */
+static int plan_modes(struct hl_verdicts *v, const char *text, char *err, size_t err_size)
+{
+	const struct hl_dbc_signal *sg = v->mode_signal;
+	const char *entry = text;
+
+	if (sg && sg->n_values > HL_VERDICTS_MAX_MODES) {
+		snprintf(err, err_size, "signal %s: HdlBeamMode with more than %d named values",
+			 sg->name, HL_VERDICTS_MAX_MODES);
+		return -EINVAL;
+	}
+	for (int k = 0; sg && k < sg->n_values; k++)
+		v->modes[v->n_modes++].raw = sg->values[k].value;
+	if (!*text)
+		return 0;
+	if (!sg) {
+		snprintf(
+			err, err_size,
+			"verdict.modes: the DBC has no signal with the attribute HdlBeamMode in the "
+			"lamps' messages");
+		return -EINVAL;
+	}
+	v->by_mode = true;
+	while (*entry) {
+		const char *colon = strchr(entry, ':'), *end = strchr(entry, ',');
+		size_t name_len;
+		int m = 0;
+
+		if (!end)
+			end = entry + strlen(entry);
+		if (!colon || colon > end) {
+			snprintf(err, err_size, "verdict.modes: '%.*s': expected MODE:ID+ID",
+				 (int)(end - entry), entry);
+			return -EINVAL;
+		}
+		name_len = (size_t)(colon - entry);
+		while (m < sg->n_values && (strlen(sg->values[m].desc) != name_len ||
+					    strncmp(sg->values[m].desc, entry, name_len) != 0))
+			m++;
+		if (m == sg->n_values) {
+			char names[256] = "";
+			size_t at = 0;
+
+			for (int k = 0; k < sg->n_values && at < sizeof(names); k++)
+				at += (size_t)snprintf(names + at, sizeof(names) - at, "%s%s",
+						       k ? ", " : "", sg->values[k].desc);
+			snprintf(
+				err, err_size,
+				"verdict.modes: '%.*s' is not a mode of signal %s (its VAL_ names: %s)",
+				(int)name_len, entry, sg->name, names);
+			return -EINVAL;
+		}
+		for (const char *id = colon + 1; id < end;) {
+			const char *plus = memchr(id, '+', (size_t)(end - id));
+			const char *id_end = plus ? plus : end;
+			const uint32_t bit = set_bit(v, id, (size_t)(id_end - id));
+
+			if (!bit) {
+				snprintf(
+					err, err_size,
+					"verdict.modes: mode '%.*s': '%.*s' is not one of verdict.sets",
+					(int)name_len, entry, (int)(id_end - id), id);
+				return -EINVAL;
+			}
+			v->modes[m].sets |= bit;
+			id = plus ? plus + 1 : end;
+		}
+		entry = *end ? end + 1 : end;
+	}
+	return 0;
+}
+
 int hl_verdicts_new(const struct hl_config *cfg, int n_lamps, const char *const *lamp_names,
 		    const struct hl_lid_grid *const *grids, const struct hl_lamp_pose *poses,
-		    struct hl_verdicts **ret, char *err, size_t err_size)
+		    const struct hl_verdicts_mode_source *mode, struct hl_verdicts **ret, char *err,
+		    size_t err_size)
 {
 	struct hl_headlight_lamp lamps[HL_FRAME_MAX_LAMPS];
 	struct hl_verdicts *v;
@@ -138,12 +229,16 @@ int hl_verdicts_new(const struct hl_config *cfg, int n_lamps, const char *const 
 	}
 	v->n_lamps = n_lamps;
 	v->traffic_left = cfg->traffic_left;
+	v->mode_lamp = mode && mode->signal && mode->lamp >= 0 ? mode->lamp : -1;
+	v->mode_signal = v->mode_lamp >= 0 ? mode->signal : NULL;
 	for (int l = 0; l < n_lamps; l++)
 		snprintf(v->lamp_names[l], sizeof(v->lamp_names[l]), "%s", lamp_names[l]);
 	for (int i = 0; i < cfg->n_verdict_sets && rc == 0; i++) {
 		rc = add_set(v, cfg, i, grids, poses, err, err_size);
 		v->n_sets = i + 1; /* freed with the rest on failure */
 	}
+	if (rc == 0)
+		rc = plan_modes(v, cfg->verdict_modes, err, err_size);
 	if (rc < 0)
 		goto err;
 	_Static_assert(HL_ROAD_KPI_LEVELS == HL_CONFIG_ROAD_LEVELS &&
@@ -216,6 +311,33 @@ const char *hl_verdicts_part_name(const struct hl_verdicts *v, int set, int part
 	const int l = v->sets[set].part[part].lamp;
 
 	return l == HL_VERDICTS_PAIR ? "pair" : v->lamp_names[l];
+}
+
+int hl_verdicts_mode_lamp(const struct hl_verdicts *v)
+{
+	return v->mode_lamp;
+}
+
+uint32_t hl_verdicts_active(const struct hl_verdicts *v, int64_t mode)
+{
+	const uint32_t all = v->n_sets ? (uint32_t)((1ull << v->n_sets) - 1) : 0;
+
+	if (!v->by_mode || mode < 0)
+		return all;
+	for (int m = 0; m < v->n_modes; m++)
+		if (v->modes[m].raw == mode)
+			return v->modes[m].sets;
+	return 0;
+}
+
+const char *hl_verdicts_mode_name(const struct hl_verdicts *v, int64_t mode)
+{
+	if (!v->mode_signal || mode < 0)
+		return NULL;
+	for (int k = 0; k < v->mode_signal->n_values; k++)
+		if (v->mode_signal->values[k].value == mode)
+			return v->mode_signal->values[k].desc;
+	return NULL;
 }
 
 const struct hl_road_kpi_options *hl_verdicts_road_options(const struct hl_verdicts *v)
@@ -337,6 +459,13 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, con
 		"\"verdicts\":{\"traffic\":\"%s\",\"frame\":", v->traffic_left ? "left" : "right");
 	if (f)
 		fprintf(out, "%" PRIu64, f->hdr.seq);
+	else
+		fputs("null", out);
+	fputs(",\"mode\":", out);
+	if (f && hl_verdicts_mode_name(v, f->beam_mode))
+		json_string(out, hl_verdicts_mode_name(v, f->beam_mode));
+	else if (f && f->beam_mode >= 0)
+		fprintf(out, "%" PRId64, f->beam_mode);
 	else
 		fputs("null", out);
 	fputs(",\"sets\":[", out);

@@ -27,6 +27,7 @@
 #include <stdio.h>
 
 #include "daemon/config.h"
+#include "dbc/database.h"
 #include "daemon/frame.h"
 #include "daemon/prom.h"
 #include "lamp/regulation.h"
@@ -36,6 +37,7 @@
 
 #define HL_VERDICTS_MAX_SETS HL_CONFIG_MAX_SETS /* bits of the frame header's set masks */
 #define HL_VERDICTS_PAIR (-1) /* a part's lamp: half the sum of the pair */
+#define HL_VERDICTS_MAX_MODES 64 /* named values of the HdlBeamMode signal */
 
 /* Where part j of set i sits in a frame's results. */
 struct hl_verdicts_part {
@@ -45,16 +47,25 @@ struct hl_verdicts_part {
 
 struct hl_verdicts;
 
+/* The beam mode's source: a lamp's HdlBeamMode signal (can/assembler.h). */
+struct hl_verdicts_mode_source {
+	int lamp; /* whose cycles carry it, -1: no such signal */
+	const struct hl_dbc_signal *signal; /* its VAL_ descriptions name the modes */
+};
+
 /*
  * Loads cfg's sets (cfg->verdict_sets from cfg->regulations) and plans them and the road KPIs
  * for the lamps: grids[l] and poses[l] of n_lamps (1 or 2) lamps called lamp_names[l]; copied.
- * 0, -ENOENT (a set is missing), -EBADMSG (a set file is malformed), -EINVAL (a pair_half set
- * with one lamp, or lamps on different grids or at different pitches), -ENOMEM; err names the
- * set, the file and the fault.
+ * mode (NULL or lamp -1: none; the signal must outlive the object) and cfg->verdict_modes
+ * select the sets per beam mode. 0, -ENOENT (a set is missing), -EBADMSG (a set file is
+ * malformed), -EINVAL (a pair_half set with one lamp, or lamps on different grids or aims;
+ * verdict.modes without a mode signal, naming a mode the signal has no VAL_ for or a set that
+ * is not in verdict.sets), -ENOMEM; err names the set, the file and the fault.
  */
 int hl_verdicts_new(const struct hl_config *cfg, int n_lamps, const char *const *lamp_names,
 		    const struct hl_lid_grid *const *grids, const struct hl_lamp_pose *poses,
-		    struct hl_verdicts **ret, char *err, size_t err_size);
+		    const struct hl_verdicts_mode_source *mode, struct hl_verdicts **ret, char *err,
+		    size_t err_size);
 void hl_verdicts_free(struct hl_verdicts *v);
 
 int hl_verdicts_n_sets(const struct hl_verdicts *v);
@@ -65,6 +76,16 @@ int hl_verdicts_n_parts(const struct hl_verdicts *v, int set);
 const struct hl_verdicts_part *hl_verdicts_part(const struct hl_verdicts *v, int set, int part);
 /* The part's name: the lamp's, or "pair". */
 const char *hl_verdicts_part_name(const struct hl_verdicts *v, int set, int part);
+/* The lamp whose cycles carry the beam mode, -1 for none. */
+int hl_verdicts_mode_lamp(const struct hl_verdicts *v);
+/*
+ * The sets evaluated in beam mode mode (a raw value of the mode signal; -1: unknown, no signal
+ * or no cycle yet): every set without verdict.modes or when unknown; else the sets
+ * verdict.modes names for the mode's VAL_ name (none for a mode it does not name).
+ */
+uint32_t hl_verdicts_active(const struct hl_verdicts *v, int64_t mode);
+/* The mode's VAL_ name, or NULL (unknown, or a value without a description). */
+const char *hl_verdicts_mode_name(const struct hl_verdicts *v, int64_t mode);
 /* The road KPIs' levels and widths (what the header's floats are of). */
 const struct hl_road_kpi_options *hl_verdicts_road_options(const struct hl_verdicts *v);
 
@@ -84,7 +105,7 @@ void hl_verdicts_road_to_header(const struct hl_road_kpi *k, struct hl_frame_hea
 
 /*
  * Writes a frame's verdicts as JSON members (no braces around):
- * "verdicts":{"traffic":...,"sets":[...]},"road":{...}. failed_frames and frames: per set, the
+ * "verdicts":{"traffic":...,"frame":...,"mode":...,"sets":[...]},"road":{...}. failed_frames and frames: per set, the
  * counts so far (NULL: left out). Any thread, on a frame it holds.
  */
 void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, const uint64_t *frames,

@@ -96,7 +96,7 @@ static void verdicts_missing_set_names_the_set_and_the_directory(void **state)
 	char err[1024], want[2048];
 
 	use_sets(&fx->cfg, "test-adb-glare", "no-such-set");
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err,
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
 					 sizeof(err)),
 			 -ENOENT);
 	assert_null(v);
@@ -115,13 +115,13 @@ static void verdicts_pair_set_needs_two_lamps_on_one_grid_and_aim(void **state)
 	char err[1024];
 
 	use_sets(&fx->cfg, "test-adb-glare", NULL);
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 1, names, fx->grids, fx->poses, &v, err,
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 1, names, fx->grids, fx->poses, NULL, &v, err,
 					 sizeof(err)),
 			 -EINVAL);
 	assert_string_equal(err, "verdict.sets: set 'test-adb-glare' applies to half the sum of "
 				 "the pair; can.lamps has one lamp");
 	poses[1].pitch_deg += 0.5;
-	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, &v, err,
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, NULL, &v, err,
 					 sizeof(err)),
 			 -EINVAL);
 	assert_string_equal(err,
@@ -130,12 +130,14 @@ static void verdicts_pair_set_needs_two_lamps_on_one_grid_and_aim(void **state)
 			    "the same aim");
 	/* an each_lamp set is fine on one lamp, or on lamps aimed apart */
 	use_sets(&fx->cfg, "test-each-lamp", NULL);
-	assert_int_equal(
-		hl_verdicts_new(&fx->cfg, 1, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 1, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
 	assert_int_equal(hl_verdicts_n_parts(v, 0), 1);
 	hl_verdicts_free(v);
-	assert_int_equal(
-		hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, &v, err, sizeof(err)), 0);
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
 	assert_int_equal(hl_verdicts_n_parts(v, 0), 2);
 	hl_verdicts_free(v);
 }
@@ -167,8 +169,9 @@ static void verdicts_layout_and_results_are_the_evaluators(void **state)
 	int n;
 
 	use_sets(&fx->cfg, "test-adb-glare", "test-each-lamp");
-	assert_int_equal(
-		hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
 	assert_int_equal(hl_verdicts_n_sets(v), 2);
 	assert_string_equal(hl_verdicts_set(v, 0)->id, "test-adb-glare");
 	assert_string_equal(hl_verdicts_set(v, 1)->id, "test-each-lamp");
@@ -232,8 +235,9 @@ static void verdicts_road_kpis_are_the_planners(void **state)
 	cfg.n_verdict_sets = 0; /* the road KPIs come without sets */
 	cfg.road_levels_lx[0] = 2.0;
 	cfg.road_width_at_m[1] = 40.0;
-	assert_int_equal(
-		hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
 	assert_int_equal(hl_verdicts_n_results(v), 0);
 	hl_verdicts_road(v, (const float *const *)fx->high, &got);
 	hl_road_kpi_defaults(&o);
@@ -283,8 +287,9 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	char err[1024], json[16384], prom[16384], line[512];
 
 	use_sets(&fx->cfg, "test-adb-glare", "test-each-lamp");
-	assert_int_equal(
-		hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, &v, err, sizeof(err)), 0);
+	assert_int_equal(hl_verdicts_new(&fx->cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
 	f.n_results = hl_verdicts_n_results(v);
 	f.results = calloc(f.n_results, sizeof(*f.results));
 	assert_non_null(f.results);

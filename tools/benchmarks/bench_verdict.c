@@ -192,7 +192,7 @@ int main(int argc, char **argv)
 		}
 	}
 	t_plan = hl_bench_now_ms();
-	if (hl_verdicts_new(&cfg, 2, names, grids, poses, &v, err, sizeof(err)) < 0) {
+	if (hl_verdicts_new(&cfg, 2, names, grids, poses, NULL, &v, err, sizeof(err)) < 0) {
 		fprintf(stderr, "hdlamp-bench-verdict: %s\n", err);
 		goto out;
 	}
