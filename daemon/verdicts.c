@@ -461,13 +461,13 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, con
 		fprintf(out, "%" PRIu64, f->hdr.seq);
 	else
 		fputs("null", out);
-	fputs(",\"mode\":", out);
-	if (f && hl_verdicts_mode_name(v, f->beam_mode))
-		json_string(out, hl_verdicts_mode_name(v, f->beam_mode));
-	else if (f && f->beam_mode >= 0)
-		fprintf(out, "%" PRId64, f->beam_mode);
-	else
+	fputs(",\"mode\":", out); /* the VAL_ name, the raw value without one, or null */
+	if (!f || v->mode_lamp < 0 || f->beam_mode < 0)
 		fputs("null", out);
+	else if (hl_verdicts_mode_name(v, f->beam_mode))
+		json_string(out, hl_verdicts_mode_name(v, f->beam_mode));
+	else
+		fprintf(out, "%" PRId64, f->beam_mode);
 	fputs(",\"sets\":[", out);
 	for (int i = 0; i < v->n_sets; i++) {
 		const struct set *s = &v->sets[i];

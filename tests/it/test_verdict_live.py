@@ -32,19 +32,20 @@ def lamps(hdlamp, tmp_path_factory):
     return out
 
 
-def hold_log(hdlamp, out_dir, preset, cycles=25):
-    """A log of the ECU sending one HD84 preset for every cycle (hdlamp scenario --hold)."""
-    log = os.path.join(out_dir, f"{preset}.log")
-    run(hdlamp, "scenario", "--dbc", dbc_path("hd84.dbc"), "--out", log, "--hold", preset,
-        "--phase-cycles", cycles)
+def hold_log(hdlamp, out_dir, preset, cycles=25, dbc=dbc_path("hd84.dbc"), mode=None):
+    """A log of the ECU sending one HD84 preset for every cycle (hdlamp scenario --hold), and
+    with mode its HdlBeamMode signal set to that VAL_ name."""
+    log = os.path.join(out_dir, f"{preset}-{mode}.log")
+    run(hdlamp, "scenario", "--dbc", dbc, "--out", log, "--hold", preset, "--phase-cycles",
+        cycles, *(["--mode", mode] if mode else []))
     return log
 
 
 class Daemon:
     """hdlampd replaying a log in a loop, with the stream and HTTP on free ports."""
 
-    def __init__(self, lamps, log, *args, sets=SETS):
-        cmd = [HDLAMPD, "--replay", log, "--loop", "--dbc", dbc_path("hd84.dbc"),
+    def __init__(self, lamps, log, *args, sets=SETS, dbc=dbc_path("hd84.dbc")):
+        cmd = [HDLAMPD, "--replay", log, "--loop", "--dbc", dbc,
                "--set", f"lamps.left={lamps}/hd84_left.lid.exr",
                "--set", f"lamps.right={lamps}/hd84_right.lid.exr",
                "--set", "render.size=160x90", "--set", "stream.tcp=127.0.0.1:0",
@@ -244,3 +245,42 @@ def test_unknown_set_stops_the_start_naming_it(hdlamp, lamps, tmp_path):
     assert r.returncode == 2, r.stderr
     assert f"hdlampd: verdict.sets: no set 'no-such-set' in '{REGS}' (no file " \
            f"'{REGS}/no-such-set.json'; verdict.regulations names the directory)\n" in r.stderr
+
+
+MODE_DBC = os.path.join(SOURCE_DIR, "tests", "data", "dbc", "hd84_fd_beam_mode.dbc")
+
+
+@pytest.mark.parametrize("preset,mode,evaluated", [("high", "high", 0b10),
+                                                   ("glarefree", "glarefree", 0b01),
+                                                   ("low", "low", 0b00)])
+def test_beam_mode_signal_picks_the_sets(hdlamp, lamps, tmp_path, preset, mode, evaluated):
+    # hd84_fd.dbc with HL_Mode_L/R (SG_ attribute HdlBeamMode, VAL_ 0 low, 1 high, 2 glarefree):
+    # in each cycle only the mode's sets are evaluated, the others are reported as not
+    log = hold_log(hdlamp, str(tmp_path), preset, dbc=MODE_DBC, mode=mode)
+    d = Daemon(lamps, log, "--set", f"verdict.modes=high:{DRIVING},glarefree:{ADB}",
+               dbc=MODE_DBC)
+    try:
+        hs = stream_headers(d.stream_port, 15)
+        status = json.loads(d.get("/status"))
+        m = d.metrics()
+    finally:
+        d.stop()
+    assert any("beam mode from signal HL_Mode_L of lamp 'left'" in l for l in d.log)
+    # frames of a cycle (no fail-safe; before the first cycle the mode is unknown: every set)
+    hs = [h for h in hs if not h["flags"]]
+    assert hs and all(h["n_sets"] == 2 and h["sets_evaluated"] == evaluated for h in hs), hs
+    assert all(h["sets_failed"] & ~evaluated == 0 for h in hs)
+    v = status["verdicts"]
+    assert v["mode"] == mode
+    for i, s in enumerate((ADB, DRIVING)):
+        st = set_status(status, s)
+        assert st["evaluated"] is bool(evaluated & (1 << i)), s
+        assert (st["results"] != []) is st["evaluated"]
+        if not st["evaluated"]:
+            assert st["pass"] is None
+    # /metrics: the gauges of the evaluated sets only
+    passes = m.get("hdlamp_verdict_pass", {})
+    assert (f'set="{ADB}",lamp="pair"' in passes) is bool(evaluated & 1)
+    assert (f'set="{DRIVING}",lamp="left"' in passes) is bool(evaluated & 2)
+    if mode == "glarefree":
+        assert m["hdlamp_requirement_margin"][ONCOMING] > 0

@@ -200,6 +200,20 @@ static void config_verdict_and_road_keys(void **state)
 	assert_int_equal(c.n_verdict_sets, 32);
 	assert_string_equal(c.verdict_sets[31], "s31");
 
+	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=low:a+b,high:c,off:", "command line",
+					   &err),
+			 0);
+	assert_string_equal(c.verdict_modes, "low:a+b,high:c,off:");
+	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=low", "command line", &err), -EINVAL);
+	assert_string_equal(err.msg,
+			    "command line: key 'verdict.modes': expected MODE:ID+ID,MODE:ID,"
+			    "... (a mode's sets joined by +, no spaces)");
+	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=low:a,", "command line", &err),
+			 -EINVAL);
+	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=:a", "command line", &err), -EINVAL);
+	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=low:a b", "command line", &err),
+			 -EINVAL);
+	assert_string_equal(c.verdict_modes, "low:a+b,high:c,off:");
 	assert_int_equal(hl_config_set_arg(&c, "verdict.traffic=centre", "command line", &err),
 			 -EINVAL);
 	assert_string_equal(err.msg, "command line: key 'verdict.traffic': expected right or left");

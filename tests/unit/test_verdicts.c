@@ -301,7 +301,7 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	hl_verdicts_road_to_header(&road, &f.hdr);
 	texts(v, &f, json, sizeof(json), prom, sizeof(prom));
 
-	assert_non_null(strstr(json, "\"verdicts\":{\"traffic\":\"right\",\"frame\":42,\"sets\":"
+	assert_non_null(strstr(json, "\"verdicts\":{\"traffic\":\"right\",\"frame\":42,\"mode\":null,\"sets\":"
 				     "[{\"id\":\"test-adb-glare\",\"title\":\"Test set: an "
 				     "oncoming vehicle's window at 50 m, half the pair's sum\","
 				     "\"applies\":\"pair_half\",\"evaluated\":true,\"pass\":false,"
@@ -360,6 +360,68 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	hl_verdicts_free(v);
 }
 
+/* The beam mode: verdict.modes against tests/data/dbc/hd84_fd_beam_mode.dbc's HL_Mode_L. */
+static void verdicts_beam_mode_selects_the_sets(void **state)
+{
+	struct fixture *fx = *state;
+	struct hl_config cfg = fx->cfg;
+	struct hl_dbc *db;
+	struct hl_dbc_error derr;
+	struct hl_verdicts *v;
+	struct hl_verdicts_mode_source mode = { 0, NULL };
+	char path[600], err[1024];
+
+	snprintf(path, sizeof(path), "%s/tests/data/dbc/hd84_fd_beam_mode.dbc",
+		 getenv("HL_SOURCE_DIR"));
+	assert_int_equal(hl_dbc_parse_file(path, &db, &derr), 0);
+	mode.signal = hl_dbc_find_signal(hl_dbc_find_message(db, "HL_DimB_L"), "HL_Mode_L");
+	assert_non_null(mode.signal);
+	use_sets(&cfg, "test-adb-glare", "test-each-lamp");
+
+	/* a mode signal but no verdict.modes: every set, whatever the mode */
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 0);
+	assert_int_equal(hl_verdicts_mode_lamp(v), 0);
+	assert_int_equal(hl_verdicts_active(v, 1), 0x3);
+	assert_int_equal(hl_verdicts_active(v, -1), 0x3);
+	assert_string_equal(hl_verdicts_mode_name(v, 2), "glarefree");
+	assert_null(hl_verdicts_mode_name(v, 7));
+	hl_verdicts_free(v);
+
+	snprintf(cfg.verdict_modes, sizeof(cfg.verdict_modes),
+		 "high:test-each-lamp,glarefree:test-adb-glare+test-each-lamp");
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 0);
+	assert_int_equal(hl_verdicts_active(v, 0), 0x0); /* low: not named, nothing */
+	assert_int_equal(hl_verdicts_active(v, 1), 0x2);
+	assert_int_equal(hl_verdicts_active(v, 2), 0x3);
+	assert_int_equal(hl_verdicts_active(v, 9), 0x0); /* a value without a name */
+	assert_int_equal(hl_verdicts_active(v, -1), 0x3); /* no cycle yet: every set */
+	hl_verdicts_free(v);
+
+	/* errors: a mode the signal does not name, a set not configured, no signal */
+	snprintf(cfg.verdict_modes, sizeof(cfg.verdict_modes), "hi:test-each-lamp");
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 -EINVAL);
+	assert_string_equal(err, "verdict.modes: 'hi' is not a mode of signal HL_Mode_L (its "
+				 "VAL_ names: low, high, glarefree)");
+	snprintf(cfg.verdict_modes, sizeof(cfg.verdict_modes), "high:test-each-lamp+nope");
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 -EINVAL);
+	assert_string_equal(err, "verdict.modes: mode 'high': 'nope' is not one of verdict.sets");
+	snprintf(cfg.verdict_modes, sizeof(cfg.verdict_modes), "high:test-each-lamp");
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 -EINVAL);
+	assert_string_equal(err, "verdict.modes: the DBC has no signal with the attribute "
+				 "HdlBeamMode in the lamps' messages");
+	hl_dbc_free(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -368,6 +430,7 @@ int main(void)
 		cmocka_unit_test(verdicts_layout_and_results_are_the_evaluators),
 		cmocka_unit_test(verdicts_road_kpis_are_the_planners),
 		cmocka_unit_test(verdicts_json_and_metrics_of_a_frame),
+		cmocka_unit_test(verdicts_beam_mode_selects_the_sets),
 	};
 
 	return cmocka_run_group_tests(tests, setup, teardown);
