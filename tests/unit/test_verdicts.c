@@ -22,6 +22,56 @@
 
 static const char *const names[2] = { "left", "right" };
 
+/*
+ * Counting allocations on the render thread's path (as test_gpio.c): this executable's malloc,
+ * calloc and realloc count while asked to (not under the sanitizers, which bring their own).
+ */
+static _Atomic long allocs = -1; /* -1: not counting */
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define HL_SANITIZER 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define HL_SANITIZER 1
+#endif
+
+#if defined(HL_SANITIZER)
+#define HL_COUNT_ALLOCS 0
+#else
+#define HL_COUNT_ALLOCS 1
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t size);
+
+static void count_alloc(void)
+{
+	long n = allocs;
+
+	if (n >= 0)
+		allocs = n + 1;
+}
+
+void *malloc(size_t size)
+{
+	count_alloc();
+	return __libc_malloc(size);
+}
+
+void *calloc(size_t n, size_t size)
+{
+	count_alloc();
+	return __libc_calloc(n, size);
+}
+
+void *realloc(void *p, size_t size)
+{
+	count_alloc();
+	return __libc_realloc(p, size);
+}
+#endif
+
 struct fixture {
 	struct hl_lid *lamps[2];
 	const struct hl_lid_grid *grids[2];
@@ -301,13 +351,14 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	hl_verdicts_road_to_header(&road, &f.hdr);
 	texts(v, &f, json, sizeof(json), prom, sizeof(prom));
 
-	assert_non_null(strstr(json, "\"verdicts\":{\"traffic\":\"right\",\"frame\":42,\"mode\":null,\"sets\":"
-				     "[{\"id\":\"test-adb-glare\",\"title\":\"Test set: an "
-				     "oncoming vehicle's window at 50 m, half the pair's sum\","
-				     "\"applies\":\"pair_half\",\"evaluated\":true,\"pass\":false,"
-				     "\"frames\":7,\"failed_frames\":3,\"results\":[{\"lamp\":"
-				     "\"pair\",\"pass\":false,\"requirements\":[{\"id\":\"Oncoming "
-				     "50 m\",\"kind\":\"segment\",\"value_cd\":"));
+	assert_non_null(strstr(
+		json, "\"verdicts\":{\"traffic\":\"right\",\"frame\":42,\"mode\":null,\"sets\":"
+		      "[{\"id\":\"test-adb-glare\",\"title\":\"Test set: an "
+		      "oncoming vehicle's window at 50 m, half the pair's sum\","
+		      "\"applies\":\"pair_half\",\"evaluated\":true,\"pass\":false,"
+		      "\"frames\":7,\"failed_frames\":3,\"results\":[{\"lamp\":"
+		      "\"pair\",\"pass\":false,\"requirements\":[{\"id\":\"Oncoming "
+		      "50 m\",\"kind\":\"segment\",\"value_cd\":"));
 	snprintf(line, sizeof(line), "\"max_cd\":625,\"margin\":%.9g,\"pass\":false,",
 		 f.results[0].margin);
 	assert_non_null(strstr(json, line));
@@ -422,6 +473,47 @@ static void verdicts_beam_mode_selects_the_sets(void **state)
 	hl_dbc_free(db);
 }
 
+/* A frame's verdicts and road KPIs allocate nothing (the render thread's part). */
+static void verdicts_eval_and_road_allocate_nothing(void **state)
+{
+	struct fixture *fx = *state;
+	struct hl_config cfg = fx->cfg;
+	struct hl_verdicts *v;
+	struct hl_req_result *res;
+	struct hl_road_kpi road;
+	char err[1024];
+	long counted;
+
+	if (!HL_COUNT_ALLOCS)
+		skip();
+	use_sets(&cfg, "test-adb-glare", "test-each-lamp");
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
+	res = calloc(hl_verdicts_n_results(v), sizeof(*res));
+	assert_non_null(res);
+	allocs = 0;
+	for (int k = 0; k < 20; k++) {
+		hl_verdicts_eval(v, 0x3, (const float *const *)(k & 1 ? fx->high : fx->glarefree),
+				 res);
+		hl_verdicts_road(v, (const float *const *)fx->high, &road);
+	}
+	counted = allocs;
+	allocs = -1;
+	assert_int_equal(counted, 0);
+	/* the counter works: planning allocates */
+	allocs = 0;
+	hl_verdicts_free(v);
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
+	counted = allocs;
+	allocs = -1;
+	assert_true(counted > 0);
+	free(res);
+	hl_verdicts_free(v);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -431,6 +523,7 @@ int main(void)
 		cmocka_unit_test(verdicts_road_kpis_are_the_planners),
 		cmocka_unit_test(verdicts_json_and_metrics_of_a_frame),
 		cmocka_unit_test(verdicts_beam_mode_selects_the_sets),
+		cmocka_unit_test(verdicts_eval_and_road_allocate_nothing),
 	};
 
 	return cmocka_run_group_tests(tests, setup, teardown);
