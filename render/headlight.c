@@ -89,23 +89,16 @@ static double geometry(const struct hl_lamp_pose *pose, const double p[3], const
 /* The term of one lamp at one G-buffer entry; g = 0 when it does not light it. */
 static struct term make_term(const struct hl_headlight_lamp *lamp, const float *pf, const float *nf)
 {
-	const struct hl_lid_grid *g = &lamp->grid;
 	const double p[3] = { pf[0], pf[1], pf[2] }, nn[3] = { nf[0], nf[1], nf[2] };
-	double d[3], fx, fy, geo;
-	int x0, y0;
+	struct hl_headlight_tap tap;
 
-	if (nf[3] == (float)HL_SURF_NONE)
+	if (nf[3] == (float)HL_SURF_NONE || !hl_headlight_tap(lamp, p, nn, &tap))
 		return (struct term){ 0 };
-	geo = geometry(&lamp->pose, p, nn, d);
-	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
-		return (struct term){ 0 };
-	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
-	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
 	return (struct term){
-		.cell = (uint32_t)((size_t)y0 * g->width + x0),
-		.tx = (uint16_t)lrint((fx - x0) * WEIGHT_ONE),
-		.ty = (uint16_t)lrint((fy - y0) * WEIGHT_ONE),
-		.g = (float)geo,
+		.cell = (uint32_t)tap.cell,
+		.tx = (uint16_t)lrint(tap.tx * WEIGHT_ONE),
+		.ty = (uint16_t)lrint(tap.ty * WEIGHT_ONE),
+		.g = (float)tap.g,
 	};
 }
 
@@ -294,25 +287,43 @@ size_t hl_headlight_work(const struct hl_headlight *h)
 	return h->work;
 }
 
+bool hl_headlight_tap(const struct hl_headlight_lamp *lamp, const double p[3], const double n[3],
+		      struct hl_headlight_tap *ret)
+{
+	const struct hl_lid_grid *g = &lamp->grid;
+	double d[3], fx, fy, geo;
+	int x0, y0;
+
+	*ret = (struct hl_headlight_tap){ 0 };
+	geo = geometry(&lamp->pose, p, n, d);
+	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
+		return false;
+	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
+	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
+	*ret = (struct hl_headlight_tap){
+		.cell = (size_t)y0 * g->width + x0,
+		.tx = fx - x0,
+		.ty = fy - y0,
+		.g = geo,
+	};
+	return true;
+}
+
+double hl_headlight_tap_lookup(const struct hl_headlight_tap *t, const float *dense, int width)
+{
+	const float *s = dense + t->cell;
+	const double top = s[0] * (1 - t->tx) + s[1] * t->tx;
+	const double bottom = s[width] * (1 - t->tx) + s[width + 1] * t->tx;
+
+	return t->g * (top * (1 - t->ty) + bottom * t->ty);
+}
+
 double hl_headlight_point(const struct hl_headlight_lamp *lamp, const float *dense,
 			  const double p[3], const double n[3])
 {
-	const struct hl_lid_grid *g = &lamp->grid;
-	double d[3], fx, fy, geo, tx, ty;
-	int x0, y0;
+	struct hl_headlight_tap t;
 
-	geo = geometry(&lamp->pose, p, n, d);
-	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
+	if (!hl_headlight_tap(lamp, p, n, &t))
 		return 0.0;
-	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
-	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
-	tx = fx - x0;
-	ty = fy - y0;
-	{
-		const float *s = dense + (size_t)y0 * g->width + x0;
-		const double top = s[0] * (1 - tx) + s[1] * tx;
-		const double bottom = s[g->width] * (1 - tx) + s[g->width + 1] * tx;
-
-		return geo * (top * (1 - ty) + bottom * ty);
-	}
+	return hl_headlight_tap_lookup(&t, dense, lamp->grid.width);
 }

@@ -67,6 +67,26 @@ void hl_headlight_run_chunk_lit(const struct hl_headlight *h, const float *const
 size_t hl_headlight_work(const struct hl_headlight *h);
 
 /*
+ * What one lamp contributes at one point before its distribution is known: the bilinear taps
+ * and the geometry. E = g * the bilinear lookup of cell's 2 x 2 samples with weights tx
+ * (towards column + 1) and ty (towards row + 1), which hl_headlight_tap_lookup() computes.
+ */
+struct hl_headlight_tap {
+	size_t cell; /* index of the cell's upper-left sample in the dense grid */
+	double tx, ty; /* bilinear weights, 0..1 */
+	double g; /* cos(eps) / r^2, 1/m^2 */
+};
+
+/*
+ * The taps of lamp at point p with unit normal n (vehicle frame); false, with *ret zeroed, when
+ * the lamp does not light the point (it faces away, or its direction is outside the grid).
+ */
+bool hl_headlight_tap(const struct hl_headlight_lamp *lamp, const double p[3], const double n[3],
+		      struct hl_headlight_tap *ret);
+/* g * I at the taps, in double precision, from dense (grid layout, width columns, cd). */
+double hl_headlight_tap_lookup(const struct hl_headlight_tap *t, const float *dense, int width);
+
+/*
  * The same quantity for one point, without any precomputation, in double precision: the
  * reference the fast paths are checked against. p, n in the vehicle frame (n unit).
  */

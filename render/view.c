@@ -100,15 +100,38 @@ static void put(uint8_t *rgb, int w, int h, int x, int y, const uint8_t c[3])
 		memcpy(rgb + 3 * ((size_t)y * w + x), c, 3);
 }
 
+/* Where the legend goes: false when the image is too small for one. */
+static bool legend_geometry(int w, int h, int *bar_w, int *bar_h, int *x0, int *y0)
+{
+	*bar_h = h * 3 / 5;
+	*bar_w = w / 80 > 6 ? w / 80 : 6;
+	*x0 = w - *bar_w - hl_font_width("1000", 1) - 10;
+	*y0 = (h - *bar_h) / 2;
+	return *bar_h >= 20 && *x0 >= 0;
+}
+
+void hl_view_lux_legend_box(int w, int h, int ret_box[4])
+{
+	int bar_w, bar_h, x0, y0;
+
+	memset(ret_box, 0, sizeof(int) * 4);
+	if (!legend_geometry(w, h, &bar_w, &bar_h, &x0, &y0))
+		return;
+	/* the black backing, and the unit below it */
+	ret_box[0] = x0 - 2;
+	ret_box[1] = y0 - 2;
+	ret_box[2] = w;
+	ret_box[3] = y0 + bar_h + 4 + HL_FONT_H;
+}
+
 static void legend(const struct hl_view_lux_opts *o, int w, int h, uint8_t *rgb)
 {
 	static const uint8_t white[3] = { 240, 240, 240 }, black[3] = { 0, 0, 0 };
-	const int bar_h = h * 3 / 5, bar_w = w / 80 > 6 ? w / 80 : 6;
 	const int label_w = hl_font_width("1000", 1);
-	const int x0 = w - bar_w - label_w - 10, y0 = (h - bar_h) / 2;
+	int bar_w, bar_h, x0, y0;
 	char buf[32];
 
-	if (bar_h < 20 || x0 < 0)
+	if (!legend_geometry(w, h, &bar_w, &bar_h, &x0, &y0))
 		return;
 	for (int y = -2; y < bar_h + 2; y++)
 		for (int x = -2; x < bar_w + label_w + 8; x++)

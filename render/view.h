@@ -49,6 +49,11 @@ void hl_view_display(const struct hl_gbuffer *gb, const float *lux, double expos
 /* The display view of pixels first .. first + count - 1 only (ret_rgb: the whole image). */
 void hl_view_display_range(const struct hl_gbuffer *gb, const float *lux, double exposure_ev,
 			   size_t first, size_t count, uint8_t *ret_rgb);
+/*
+ * The pixels the lux view's legend covers in a w x h image: x0, y0, x1, y1 (half-open; all 0
+ * when the image is too small for a legend).
+ */
+void hl_view_lux_legend_box(int w, int h, int ret_box[4]);
 /* ret_rgb: 3 bytes per pixel. lux of a width x height image; gb marks the sky (id 0). */
 void hl_view_lux(const struct hl_gbuffer *gb, const float *lux, const struct hl_view_lux_opts *opts,
 		 uint8_t *ret_rgb);

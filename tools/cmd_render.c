@@ -12,8 +12,10 @@
 #include "render/frame_exr.h"
 #include "render/gi.h"
 #include "render/gl_sensor.h"
+#include "render/overlay.h"
 #include "render/plot.h"
 #include "render/renderer.h"
+#include "render/road_kpi.h"
 #include "render/scene.h"
 #include "render/scene_mesh.h"
 #include "render/view.h"
@@ -49,7 +51,14 @@ static void usage(FILE *f)
 		"  --out FILE           .png (display, lux, lid) or .exr (hdr: RGBA half luminance;\n"
 		"                       lux: channel E in lux; lid: the combined distribution)\n"
 		"  --exposure EV        display exposure, default %.1f (bird: %.1f, sphere: %.1f)\n"
-		"  --iso L1,L2,...      iso-lux lines of the lux view, default 1,3,5,10,20,50\n"
+		"  --iso L1,L2,...      iso-lux lines of the lux view, default 1,3,5,10,20,50, and of\n"
+		"                       the bird scene's display view, default 1,3,10,30\n"
+		"  --no-labels          bird scene: no distance labels, iso-lux lines or their labels\n"
+		"  --kpi FILE|-         the road KPIs of the lamps as rendered (range along the lane\n"
+		"                       centre and the right road edge, width at 25 and 50 m) as one\n"
+		"                       JSON object into FILE; '-': to standard output (which then\n"
+		"                       holds only the JSON)\n"
+		"  --kpi-levels L1,L2   the KPIs' illuminance levels, lux, default 1,3 (widths: L1)\n"
 		"  --wall-distance M    wall scene: distance of the screen, default 25\n"
 		"  --camera-pos X,Y,Z   camera position (m, vehicle frame: x fwd, y left, z up)\n"
 		"  --camera-dir X,Y,Z   viewing direction\n"
@@ -93,6 +102,9 @@ struct options {
 	bool have_camera_pos, have_camera_dir;
 	struct hl_lamp_pose poses[2];
 	struct hl_view_lux_opts lux;
+	bool have_iso, labels;
+	const char *kpi; /* NULL, a path or "-" */
+	double kpi_levels_lx[HL_ROAD_KPI_LEVELS];
 	int lamp;
 	enum hl_backend backend;
 	bool gi;
@@ -176,6 +188,9 @@ static int parse(int argc, char **argv, struct options *o)
 		OPT_GI_THREADS,
 		OPT_SENSOR_BACKEND,
 		OPT_SENSOR_BATCH,
+		OPT_NO_LABELS,
+		OPT_KPI,
+		OPT_KPI_LEVELS,
 	};
 	static const struct option opts[] = {
 		{ "lamps", required_argument, NULL, 'L' },
@@ -205,6 +220,9 @@ static int parse(int argc, char **argv, struct options *o)
 		{ "gi-threads", required_argument, NULL, OPT_GI_THREADS },
 		{ "sensor-backend", required_argument, NULL, OPT_SENSOR_BACKEND },
 		{ "sensor-batch", required_argument, NULL, OPT_SENSOR_BATCH },
+		{ "no-labels", no_argument, NULL, OPT_NO_LABELS },
+		{ "kpi", required_argument, NULL, OPT_KPI },
+		{ "kpi-levels", required_argument, NULL, OPT_KPI_LEVELS },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
@@ -220,6 +238,8 @@ static int parse(int argc, char **argv, struct options *o)
 		.height = 720,
 		.exposure_ev = NAN,
 		.wall_distance_m = HL_WALL_DISTANCE_M,
+		.labels = true,
+		.kpi_levels_lx = { 1.0, 3.0 },
 	};
 	hl_lamp_pose_default(0, &o->poses[0]);
 	hl_lamp_pose_default(1, &o->poses[1]);
@@ -266,6 +286,18 @@ static int parse(int argc, char **argv, struct options *o)
 		case OPT_ISO:
 			if (parse_iso(optarg, &o->lux) < 0)
 				return bad("--iso", optarg, "positive lux levels, comma-separated");
+			o->have_iso = true;
+			break;
+		case OPT_NO_LABELS:
+			o->labels = false;
+			break;
+		case OPT_KPI:
+			o->kpi = optarg;
+			break;
+		case OPT_KPI_LEVELS:
+			if (parse_doubles(optarg, o->kpi_levels_lx, HL_ROAD_KPI_LEVELS) < 0 ||
+			    !(o->kpi_levels_lx[0] > 0.0) || !(o->kpi_levels_lx[1] > 0.0))
+				return bad("--kpi-levels", optarg, "two positive lux levels L1,L2");
 			break;
 		case OPT_WALL:
 			if (parse_doubles(optarg, &o->wall_distance_m, 1) < 0 ||
@@ -451,6 +483,76 @@ static int load_lamps(const struct options *o, struct hl_lid *lids[2], int *n_la
 	return 0;
 }
 
+/*
+ * The bird scene's labels: distance lines; iso-lux lines with their values (the lux view draws
+ * its own lines in white: only their labels then).
+ */
+static void bird_labels(const struct options *o, const struct hl_camera *cam,
+			const struct hl_gbuffer *gb, const float *lux, uint8_t *rgb)
+{
+	struct hl_overlay_opts ov;
+
+	hl_overlay_defaults(&ov);
+	if (o->view == HL_VIEW_LUX || o->have_iso) {
+		ov.n_iso = o->lux.n_iso;
+		memcpy(ov.iso_lx, o->lux.iso_lx, sizeof(double) * o->lux.n_iso);
+	}
+	ov.iso_lines = o->view != HL_VIEW_LUX;
+	ov.iso_white = o->view == HL_VIEW_LUX;
+	if (o->view == HL_VIEW_LUX && o->lux.legend)
+		hl_view_lux_legend_box(cam->width, cam->height, ov.keep_clear);
+	hl_overlay_draw(cam, gb, lux, &ov, rgb);
+}
+
+/* --kpi: the road KPIs of the lamps' current distributions, as one JSON object. */
+static int write_kpi(const struct options *o, struct hl_renderer *r, int n_lamps)
+{
+	struct hl_headlight_lamp lamps[2];
+	const float *dense[2] = { NULL, NULL };
+	struct hl_road_kpi_options ko;
+	struct hl_road_kpi_plan *plan;
+	struct hl_road_kpi k;
+	FILE *f = stdout;
+	int rc;
+
+	hl_road_kpi_defaults(&ko);
+	memcpy(ko.levels_lx, o->kpi_levels_lx, sizeof(ko.levels_lx));
+	for (int i = 0; i < n_lamps; i++) {
+		lamps[i] = (struct hl_headlight_lamp){ o->poses[i], *hl_renderer_grid(r, i) };
+		dense[i] = hl_renderer_distribution(r, i);
+		if (!dense[i])
+			return -EIO;
+	}
+	rc = hl_road_kpi_new(n_lamps, lamps, &ko, &plan);
+	if (rc < 0) {
+		fprintf(stderr, "hdlamp render: --kpi: %s\n", strerror(-rc));
+		return rc;
+	}
+	hl_road_kpi_run(plan, dense, &k);
+	hl_road_kpi_free(plan);
+	if (strcmp(o->kpi, "-") != 0) {
+		f = fopen(o->kpi, "we");
+		if (!f) {
+			rc = -errno;
+			fprintf(stderr, "hdlamp render: --kpi '%s': %s\n", o->kpi, strerror(-rc));
+			return rc;
+		}
+	}
+	fprintf(f,
+		"{\"levels_lx\": [%.10g, %.10g], \"centre_range_m\": [%.4f, %.4f], "
+		"\"edge_range_m\": [%.4f, %.4f], \"width_lx\": %.10g, \"width_at_m\": [%.10g, %.10g], "
+		"\"width_m\": [%.4f, %.4f]}\n",
+		ko.levels_lx[0], ko.levels_lx[1], k.centre_range_m[0], k.centre_range_m[1],
+		k.edge_range_m[0], k.edge_range_m[1], ko.levels_lx[0], ko.width_at_m[0],
+		ko.width_at_m[1], k.width_m[0], k.width_m[1]);
+	rc = fflush(f) != 0 || ferror(f) ? -EIO : 0;
+	if (f != stdout && fclose(f) != 0)
+		rc = -EIO;
+	if (rc < 0)
+		fprintf(stderr, "hdlamp render: --kpi '%s': write failed\n", o->kpi);
+	return rc;
+}
+
 static int write_image(const struct options *o, const struct hl_camera *cam,
 		       const struct hl_gbuffer *gb, const float *lux, int n_lamps)
 {
@@ -486,6 +588,8 @@ static int write_image(const struct options *o, const struct hl_camera *cam,
 		hl_view_lux(gb, lux, &o->lux, rgb);
 	else
 		hl_view_display(gb, lux, o->exposure_ev, rgb);
+	if (o->scene == HL_SCENE_BIRD && o->labels)
+		bird_labels(o, cam, gb, lux, rgb);
 	rc = hl_png_write_rgb(o->out, rgb, gb->width, gb->height);
 	if (rc < 0)
 		fprintf(stderr, "hdlamp render: '%s': %s\n", o->out, strerror(-rc));
@@ -829,13 +933,16 @@ int hl_cmd_render(int argc, char **argv)
 		fprintf(stderr, "hdlamp render: frame failed: %s\n", strerror(-rc));
 		goto out;
 	}
+	if (o.kpi && write_kpi(&o, r, n_lamps) < 0)
+		goto out;
 	if (o.gi)
 		rc = run_gi(&o, egl, &scene, &cam, gb, r, lux, n_lamps);
 	else
 		rc = o.view == HL_VIEW_LID ? write_lid(&o, r, n_lamps) :
 					     write_image(&o, &cam, gb, lux, n_lamps);
 	if (rc == 0) {
-		printf("%s\n", o.out);
+		if (!o.kpi || strcmp(o.kpi, "-") != 0)
+			printf("%s\n", o.out);
 		status = HL_EXIT_OK;
 	}
 out:
