@@ -9,7 +9,8 @@
  * the main thread; counts (locked) and describe, gbuffer, camera (fixed once started) from any
  * thread; the rest runs on the render thread. The hook runs on the render thread and must not
  * block. Published frames reach the outputs through the pool's subscribers; the ring's
- * eventfd wakes the thread.
+ * eventfd wakes the thread. The verdicts (daemon/verdicts.h) are read-only; the render thread
+ * evaluates them into each frame before publishing it, so readers see a frame's results whole.
  */
 #ifndef HL_DAEMON_PIPELINE_H
 #define HL_DAEMON_PIPELINE_H
