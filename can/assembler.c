@@ -15,6 +15,7 @@ struct plan {
 	struct hl_e2e_config e2e;
 	int *source_of; /* per signal: 0-based source index, -1 */
 	int mux; /* the multiplexor signal's index, -1 for none */
+	int mode; /* the HdlBeamMode signal's index, -1 for none */
 	int first_part, n_parts;
 	uint64_t *part_mux; /* multiplexor value of each of its parts */
 };
@@ -31,6 +32,8 @@ struct lamp {
 	uint64_t abandoned; /* incomplete cycles since the last complete one */
 	uint64_t seq;
 	int64_t t_first_ns, t_last_ns, t_complete_ns;
+	const struct hl_dbc_signal *mode_signal; /* HdlBeamMode, NULL for none */
+	int64_t mode_staging; /* its raw value in the cycle being assembled */
 	bool stale;
 	struct hl_lamp_counters c;
 };
@@ -75,12 +78,15 @@ void hl_assembler_free(struct hl_assembler *a)
 	free(a);
 }
 
+static bool selected(const struct hl_dbc_signal *sg, uint64_t mux);
+
 /* The message's sources and its parts (one per multiplexor value that carries sources). */
 static int plan_message(struct hl_assembler *a, struct plan *p, struct hl_asm_error *err)
 {
 	const struct hl_dbc_message *m = p->m;
 
 	p->mux = -1;
+	p->mode = -1;
 	p->source_of = malloc(sizeof(int) * (m->n_signals ? m->n_signals : 1));
 	p->part_mux = calloc(HL_ASM_MAX_PARTS, sizeof(uint64_t));
 	if (!p->source_of || !p->part_mux)
@@ -92,6 +98,24 @@ static int plan_message(struct hl_assembler *a, struct plan *p, struct hl_asm_er
 		p->source_of[s] = -1;
 		if (sg->is_multiplexor && sg->mux_parent < 0)
 			p->mux = s;
+		/* the beam mode: an explicit BA_ as for HdlSource, named values (VAL_) */
+		if (!sg->is_multiplexor && !sg->unusable &&
+		    hl_dbc_signal_attr(a->db, m, sg, "HdlBeamMode", &v) == 0 && v.i > 0) {
+			if (p->mode >= 0)
+				return fail(
+					err,
+					"message %s (line %d): HdlBeamMode on %s and %s; expected "
+					"one signal",
+					m->name, m->line, m->signals[p->mode].name, sg->name);
+			if (sg->n_values == 0)
+				return fail(
+					err,
+					"signal %s of message %s (line %d): HdlBeamMode needs the "
+					"modes' names as VAL_ descriptions",
+					sg->name, m->name, sg->line);
+			p->mode = s;
+			continue;
+		}
 		/* only an explicit BA_ gives a source: CANdb++ forces a default inside the
 		 * definition's range (INT 1 4096 gives 1), which would put every signal on
 		 * source 1; a multiplexor selects the page and is never a source */
@@ -143,6 +167,18 @@ static int plan_message(struct hl_assembler *a, struct plan *p, struct hl_asm_er
 		return fail(err,
 			    "message %s (line %d) has an HdlLamp but no signal with an HdlSource",
 			    m->name, m->line);
+	if (p->mode >= 0 && m->signals[p->mode].mux_parent >= 0) {
+		const struct hl_dbc_signal *sg = &m->signals[p->mode];
+		bool carried = false;
+
+		for (int q = 0; q < p->n_parts && sg->mux_parent == p->mux; q++)
+			carried = carried || selected(sg, p->part_mux[q]);
+		if (!carried)
+			return fail(err,
+				    "signal %s of message %s (line %d): HdlBeamMode on a page that "
+				    "carries no source",
+				    sg->name, m->name, sg->line);
+	}
 	return 0;
 }
 
@@ -266,6 +302,17 @@ int hl_assembler_new(const struct hl_dbc *db, const char *const *lamp_names, int
 		}
 		a->lamps[l].profile = p->e2e.profile;
 		a->lamps[l].counter_max = hl_e2e_counter_max(p->e2e.profile);
+		if (p->mode >= 0) {
+			if (a->lamps[l].mode_signal) {
+				rc = fail(
+					err,
+					"lamp '%s': HdlBeamMode on %s and %s; expected one signal",
+					lamp.s, a->lamps[l].mode_signal->name,
+					m->signals[p->mode].name);
+				break;
+			}
+			a->lamps[l].mode_signal = &m->signals[p->mode];
+		}
 	}
 	if (rc == 0)
 		rc = check_sources(a, err);
@@ -351,6 +398,7 @@ static void complete(struct lamp *lamp, int l, unsigned counter, int64_t now_ns,
 		.t_rx_last_ns = lamp->t_last_ns,
 		.n_sources = lamp->n_sources,
 		.i = lamp->out,
+		.mode = lamp->mode_signal ? lamp->mode_staging : -1,
 	};
 }
 
@@ -436,6 +484,10 @@ int hl_assembler_feed(struct hl_assembler *a, const struct canfd_frame *f, int64
 		const int k = p->source_of[a->values[v].signal];
 		double i = a->values[v].phys;
 
+		if ((int)a->values[v].signal == p->mode)
+			lamp->mode_staging = a->values[v].raw > INT64_MAX ?
+						     INT64_MAX :
+						     (int64_t)a->values[v].raw;
 		if (k < 0)
 			continue;
 		if (!(i >= 0.0 && i <= 1.0)) {
@@ -463,6 +515,12 @@ static bool selected(const struct hl_dbc_signal *sg, uint64_t mux)
 
 int hl_assembler_encode(const struct hl_assembler *a, int lamp, const float *i, unsigned counter,
 			struct hl_encoded_frame *ret, int max)
+{
+	return hl_assembler_encode_mode(a, lamp, i, counter, -1, ret, max);
+}
+
+int hl_assembler_encode_mode(const struct hl_assembler *a, int lamp, const float *i,
+			     unsigned counter, int64_t mode, struct hl_encoded_frame *ret, int max)
 {
 	int n = 0;
 
@@ -495,6 +553,11 @@ int hl_assembler_encode(const struct hl_assembler *a, int lamp, const float *i, 
 							 m->size) < 0)
 					return -EINVAL;
 			}
+			if (mode >= 0 && p->mode >= 0 &&
+			    (p->mux < 0 || selected(&m->signals[p->mode], p->part_mux[part])) &&
+			    hl_dbc_signal_set_raw(&m->signals[p->mode], (uint64_t)mode,
+						  out->frame.data, m->size) < 0)
+				return -EINVAL;
 			if (p->e2e.profile != HL_E2E_NONE &&
 			    hl_e2e_protect(&p->e2e, out->frame.data, m->size, counter) < 0)
 				return -EINVAL;
@@ -551,6 +614,11 @@ int hl_assembler_ids(const struct hl_assembler *a, uint32_t *ids, int max)
 bool hl_assembler_stale(const struct hl_assembler *a, int lamp)
 {
 	return a->lamps[lamp].stale;
+}
+
+const struct hl_dbc_signal *hl_assembler_mode_signal(const struct hl_assembler *a, int lamp)
+{
+	return lamp >= 0 && lamp < a->n_lamps ? a->lamps[lamp].mode_signal : NULL;
 }
 
 const struct hl_lamp_counters *hl_assembler_lamp_counters(const struct hl_assembler *a, int lamp)

@@ -3,7 +3,9 @@
  * The cycle assembler (docs/can-input.md): from CAN frames, decoded with the DBC, complete
  * intensity lists per lamp. What is a lamp's frame and which source a signal carries is data:
  * BO_ attribute HdlLamp (the lamp's name), SG_ attribute HdlSource (1-based source index),
- * BO_ attribute HdlE2E (profile and data ID).
+ * BO_ attribute HdlE2E (profile and data ID), and optionally SG_ attribute HdlBeamMode (1: this
+ * signal of a lamp's message, one per lamp, on a part that carries sources, tells the beam mode
+ * of each cycle; its VAL_ descriptions name the modes).
  *
  * A lamp's cycle is made of parts: one per (message, multiplexor value) that carries sources
  * (hd84.dbc: 12 pages of one message; hd84_fd.dbc: two messages). All parts of one cycle carry
@@ -63,6 +65,7 @@ struct hl_cycle {
 	int64_t t_rx_first_ns, t_rx_last_ns; /* receive times of its first and last frame */
 	int n_sources;
 	const float *i;
+	int64_t mode; /* raw value of the lamp's HdlBeamMode signal in this cycle, -1: none */
 };
 
 /* What the last call changed in lamp states (bits by lamp index). */
@@ -116,6 +119,9 @@ struct hl_encoded_frame {
  */
 int hl_assembler_encode(const struct hl_assembler *a, int lamp, const float *i, unsigned counter,
 			struct hl_encoded_frame *ret, int max);
+/* The same, with the lamp's HdlBeamMode signal set to the raw value mode (>= 0; -1: left 0). */
+int hl_assembler_encode_mode(const struct hl_assembler *a, int lamp, const float *i,
+			     unsigned counter, int64_t mode, struct hl_encoded_frame *ret, int max);
 
 int hl_assembler_n_lamps(const struct hl_assembler *a);
 const char *hl_assembler_lamp_name(const struct hl_assembler *a, int lamp);
@@ -134,6 +140,8 @@ unsigned hl_assembler_counter_max(const struct hl_assembler *a, int lamp);
  */
 int hl_assembler_ids(const struct hl_assembler *a, uint32_t *ids, int max);
 bool hl_assembler_stale(const struct hl_assembler *a, int lamp);
+/* The lamp's HdlBeamMode signal (its values name the modes), NULL for none; the database's. */
+const struct hl_dbc_signal *hl_assembler_mode_signal(const struct hl_assembler *a, int lamp);
 const struct hl_lamp_counters *hl_assembler_lamp_counters(const struct hl_assembler *a, int lamp);
 const struct hl_asm_counters *hl_assembler_counters(const struct hl_assembler *a);
 

@@ -159,6 +159,7 @@ static void take_cycle(struct hl_can_input *in, const struct hl_cycle *c,
 	       sizeof(float) * c->n_sources);
 	ls->cycle_seq = c->seq;
 	ls->counter = (uint8_t)c->counter;
+	ls->mode = c->mode;
 	ls->t_rx_first_ns = c->t_rx_first_ns;
 	ls->t_complete_ns = t_event_ns;
 	ls->t_complete_mono_ns = hl_monotonic_ns();

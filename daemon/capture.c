@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <inttypes.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,13 +25,32 @@ static char *join_dims(const uint8_t *d, int n)
 	return s;
 }
 
+/* The frame's verdicts as a JSON object (malloc'd), or NULL. */
+static char *verdict_json(const struct hl_verdicts *v, const struct hl_frame *f)
+{
+	char *text = NULL;
+	size_t size = 0;
+	FILE *m = open_memstream(&text, &size);
+
+	if (!m)
+		return NULL;
+	fprintf(m, "{\"frame\":%" PRIu64 ",", f->hdr.seq);
+	hl_verdicts_json(v, f, NULL, NULL, m);
+	fputs("}\n", m);
+	if (fclose(m) != 0) {
+		free(text);
+		return NULL;
+	}
+	return text;
+}
+
 int hl_capture_write(const char *dir, const struct hl_frame *f, const struct hl_capture_scene *sc,
 		     char *ret_path, size_t path_size, char *err, size_t err_size)
 {
 	const struct hl_frame_header *h = &f->hdr;
 	struct hl_frame_exr_info info = { .camera = sc->cam, .n_lamps = sc->n_lamps };
 	char path[1024], file[1200], v[8][96], name[2][64];
-	char *dims[2] = { NULL, NULL };
+	char *dims[2] = { NULL, NULL }, *verdict = NULL;
 	struct hl_lid_error lerr = { "" };
 	float *rgba = NULL;
 	int rc = 0;
@@ -74,6 +94,31 @@ int hl_capture_write(const char *dir, const struct hl_frame *f, const struct hl_
 		info.meta_names[info.n_meta] = name[l];
 		info.meta_values[info.n_meta++] = dims[l];
 	}
+	if (sc->verdicts) {
+		FILE *vf;
+
+		verdict = verdict_json(sc->verdicts, f);
+		if (!verdict) {
+			rc = -ENOMEM;
+			goto out;
+		}
+		snprintf(file, sizeof(file), "%s/verdict.json", path);
+		vf = fopen(file, "we");
+		if (!vf) {
+			rc = -errno;
+		} else {
+			const bool written = fputs(verdict, vf) >= 0;
+
+			if (fclose(vf) != 0 || !written)
+				rc = -EIO;
+		}
+		if (rc < 0) {
+			snprintf(err, err_size, "'%s': %s", file, strerror(-rc));
+			goto out_no_msg;
+		}
+		info.meta_names[info.n_meta] = "hdlamp:verdict";
+		info.meta_values[info.n_meta++] = verdict;
+	}
 	rgba = malloc(sizeof(float) * 4 * h->width * h->height);
 	if (!rgba) {
 		rc = -ENOMEM;
@@ -110,6 +155,8 @@ int hl_capture_write(const char *dir, const struct hl_frame *f, const struct hl_
 out:
 	if (rc == -ENOMEM)
 		snprintf(err, err_size, "out of memory");
+out_no_msg:
+	free(verdict);
 	free(rgba);
 	free(dims[0]);
 	free(dims[1]);

@@ -5,7 +5,9 @@
  * distribution (<lamp>.lid.exr, channel I, cd). hdr.exr and lux.exr carry the frame's metadata
  * as string attributes: hdlamp:frameSeq, hdlamp:cycleSeq, hdlamp:counter, hdlamp:flags,
  * hdlamp:tCycleRxNs, hdlamp:tCycleDoneNs, hdlamp:tRenderDoneNs and hdlamp:dims.<lamp> (the raw
- * dimming values, comma separated).
+ * dimming values, comma separated). With verdicts, the frame's verdicts and road KPIs go to
+ * verdict.json in the same directory, and the same JSON text into the EXR attribute
+ * hdlamp:verdict.
  *
  * Thread-safety: any thread; captures are serialised by the caller (they are rare).
  * Allocates (not the hot path).
@@ -16,6 +18,7 @@
 #include <stddef.h>
 
 #include "daemon/frame.h"
+#include "daemon/verdicts.h"
 #include "render/camera.h"
 #include "lamp/lid.h"
 #include "render/scene.h"
@@ -26,6 +29,7 @@ struct hl_capture_scene {
 	int n_lamps;
 	const char *lamp_names[HL_FRAME_MAX_LAMPS];
 	const struct hl_lid_grid *grids[HL_FRAME_MAX_LAMPS];
+	const struct hl_verdicts *verdicts; /* NULL: no verdict.json */
 };
 
 /* Writes f; ret_path gets the directory. 0 or -errno (err says what failed). */

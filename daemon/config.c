@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "daemon/config.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <ini.h>
 #include <math.h>
@@ -19,6 +20,10 @@ enum kind {
 	FAILSAFE,
 	BACKEND,
 	EDGE,
+	SETS, /* comma-separated set ids into verdict_sets, n_verdict_sets */
+	TRAFFIC, /* right | left into traffic_left */
+	PAIR, /* two positive numbers "a,b" into a double[2] (min, max bound each) */
+	MODES, /* MODE:ID+ID,MODE:ID,... (checked against the DBC and the sets at start) */
 };
 
 struct key {
@@ -80,6 +85,19 @@ static const struct key keys[] = {
 	{ "gpio", "trigger_edge", EDGE, F(gpio_trigger_edge), 0, 0, "rising | falling | both" },
 	{ "gpio", "ecu_enable", STRING, F(gpio_ecu_enable), 0, 0,
 	  "output line held active while running" },
+	{ "verdict", "sets", SETS, F(verdict_sets), 0, 0,
+	  "regulation set ids checked on every frame, comma separated; empty = none" },
+	{ "verdict", "regulations", PATH, F(regulations), 0, 0,
+	  "directory of the regulation sets (ID.json)" },
+	{ "verdict", "traffic", TRAFFIC, F(traffic_left), 0, 0,
+	  "right | left: left-hand traffic mirrors the sets' H" },
+	{ "verdict", "modes", MODES, F(verdict_modes), 0, 0,
+	  "MODE:ID+ID,...: the sets evaluated in each beam mode (the DBC's HdlBeamMode signal's "
+	  "VAL_ names); empty = every set on every frame" },
+	{ "road", "levels", PAIR, F(road_levels_lx), 0.01, 1000,
+	  "illuminance levels (lx) of the road ranges, two, comma separated" },
+	{ "road", "width_at", PAIR, F(road_width_at_m), 1, 300,
+	  "distances (m) at which the width of the first level's area is taken, two" },
 };
 
 void hl_config_defaults(struct hl_config *c)
@@ -101,6 +119,100 @@ void hl_config_defaults(struct hl_config *c)
 	strcpy(c->http_listen, "127.0.0.1:8080");
 	strcpy(c->capture_dir, "captures");
 	strcpy(c->gpio_trigger_edge, "rising");
+	snprintf(c->regulations, sizeof(c->regulations), "%s", HL_REGULATIONS_DIR);
+	c->road_levels_lx[0] = 1.0;
+	c->road_levels_lx[1] = 3.0;
+	c->road_width_at_m[0] = 25.0;
+	c->road_width_at_m[1] = 50.0;
+}
+
+/* A set id is a file name in the regulations directory: letters, digits, '.', '_', '+', '-'. */
+static bool valid_set_id(const char *s, size_t n)
+{
+	if (n == 0 || n >= HL_CONFIG_SET_ID || s[0] == '.')
+		return false;
+	for (size_t i = 0; i < n; i++)
+		if (!isalnum((unsigned char)s[i]) && !strchr("._+-", s[i]))
+			return false;
+	return true;
+}
+
+/* MODE:ID+ID,... : names and ids of the set id's characters, each entry with one ':'. */
+static bool valid_modes(const char *v)
+{
+	const char *entry = v;
+
+	while (*entry) {
+		const char *end = strchr(entry, ','), *colon = strchr(entry, ':');
+
+		if (!end)
+			end = entry + strlen(entry);
+		if (!colon || colon >= end || colon == entry)
+			return false;
+		for (const char *c = entry; c < end; c++)
+			if (c != colon && !isalnum((unsigned char)*c) && !strchr("._+-", *c))
+				return false;
+		if (!*end)
+			break;
+		entry = end + 1;
+		if (!*entry)
+			return false;
+	}
+	return true;
+}
+
+/* "a, b, c" into cfg's verdict sets; what says why not. 0 or -EINVAL (cfg untouched). */
+static int parse_sets(struct hl_config *cfg, const char *value, char *what, size_t what_size)
+{
+	char ids[HL_CONFIG_MAX_SETS][HL_CONFIG_SET_ID];
+	const char *p = value;
+	int n = 0;
+
+	while (*p == ' ' || *p == '\t')
+		p++;
+	while (*p) {
+		const char *end = strchr(p, ','), *last;
+		size_t len;
+
+		if (!end)
+			end = p + strlen(p);
+		last = end;
+		while (last > p && (last[-1] == ' ' || last[-1] == '\t'))
+			last--;
+		len = (size_t)(last - p);
+		if (!valid_set_id(p, len)) {
+			snprintf(what, what_size,
+				 "'%.*s': expected set ids (letters, digits, . _ + -, at most %d "
+				 "characters) separated by commas",
+				 (int)(end - p), p, HL_CONFIG_SET_ID - 1);
+			return -EINVAL;
+		}
+		if (n == HL_CONFIG_MAX_SETS) {
+			snprintf(what, what_size,
+				 "at most %d sets (one bit each in the frame header)",
+				 HL_CONFIG_MAX_SETS);
+			return -EINVAL;
+		}
+		memcpy(ids[n], p, len);
+		ids[n][len] = '\0';
+		for (int i = 0; i < n; i++)
+			if (strcmp(ids[i], ids[n]) == 0) {
+				snprintf(what, what_size, "'%.*s' is named twice", HL_CONFIG_SET_ID,
+					 ids[n]);
+				return -EINVAL;
+			}
+		n++;
+		p = *end ? end + 1 : end;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (*end && !*p) {
+			snprintf(what, what_size, "a set id after the last comma");
+			return -EINVAL;
+		}
+	}
+	memcpy(cfg->verdict_sets, ids, sizeof(ids[0]) * n);
+	cfg->n_verdict_sets = n;
+	return 0;
 }
 
 static int bad(struct hl_config_error *err, const char *origin, int line, const char *section,
@@ -129,7 +241,7 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 		  const char *origin, int line, struct hl_config_error *err)
 {
 	const struct key *k = NULL;
-	char *at, *end, what[160];
+	char *at, *end, what[256];
 
 	for (size_t i = 0; i < sizeof(keys) / sizeof(keys[0]); i++)
 		if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
@@ -215,6 +327,42 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 				   "expected hold, dark or preset:NAME");
 		}
 		return 0;
+	case SETS:
+		if (parse_sets(cfg, value, what, sizeof(what)) < 0)
+			return bad(err, origin, line, section, name, what);
+		return 0;
+	case MODES:
+		if (!valid_modes(value))
+			return bad(err, origin, line, section, name,
+				   "expected MODE:ID+ID,MODE:ID,... (a mode's sets joined by +, "
+				   "no spaces)");
+		if (copy_string(at, HL_CONFIG_PATH, value) < 0)
+			return bad(err, origin, line, section, name, "too long");
+		return 0;
+	case TRAFFIC:
+		if (strcmp(value, "right") != 0 && strcmp(value, "left") != 0)
+			return bad(err, origin, line, section, name, "expected right or left");
+		cfg->traffic_left = strcmp(value, "left") == 0;
+		return 0;
+	case PAIR: {
+		double v[2] = { strtod(value, &end), NAN };
+
+		if (end != value && *end == ',') {
+			const char *b = end + 1;
+
+			v[1] = strtod(b, &end);
+			if (end == b)
+				v[1] = NAN;
+		}
+		if (*end || !(v[0] >= k->min && v[0] <= k->max) ||
+		    !(v[1] >= k->min && v[1] <= k->max)) {
+			snprintf(what, sizeof(what), "'%s': expected two numbers %g..%g, as A,B",
+				 value, k->min, k->max);
+			return bad(err, origin, line, section, name, what);
+		}
+		memcpy(at, v, sizeof(v));
+		return 0;
+	}
 	}
 	return -EINVAL;
 }
@@ -353,6 +501,7 @@ void hl_config_print(const struct hl_config *cfg, void *file)
 		case PATH:
 		case BACKEND:
 		case EDGE:
+		case MODES:
 			fprintf(f, "%s\n", at);
 			break;
 		case BOOL:
@@ -366,6 +515,17 @@ void hl_config_print(const struct hl_config *cfg, void *file)
 			break;
 		case SIZE:
 			fprintf(f, "%dx%d\n", cfg->width, cfg->height);
+			break;
+		case SETS:
+			for (int s = 0; s < cfg->n_verdict_sets; s++)
+				fprintf(f, "%s%s", s ? "," : "", cfg->verdict_sets[s]);
+			fputc('\n', f);
+			break;
+		case TRAFFIC:
+			fprintf(f, "%s\n", cfg->traffic_left ? "left" : "right");
+			break;
+		case PAIR:
+			fprintf(f, "%g,%g\n", ((const double *)at)[0], ((const double *)at)[1]);
 			break;
 		case FAILSAFE:
 			fprintf(f, "%s%s\n",

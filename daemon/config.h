@@ -13,6 +13,10 @@
 
 #define HL_CONFIG_PATH 512
 #define HL_CONFIG_NAME 64
+#define HL_CONFIG_MAX_SETS 32 /* verdict sets: one bit each in the frame header */
+#define HL_CONFIG_SET_ID 48 /* a set id's bytes with the NUL (lamp/regulation.h: HL_REG_ID_MAX) */
+#define HL_CONFIG_ROAD_LEVELS 2 /* render/road_kpi.h: HL_ROAD_KPI_LEVELS */
+#define HL_CONFIG_ROAD_WIDTHS 2 /* render/road_kpi.h: HL_ROAD_KPI_WIDTHS */
 
 enum hl_failsafe {
 	HL_FAILSAFE_HOLD, /* keep the last valid intensities */
@@ -60,6 +64,16 @@ struct hl_config {
 	char gpio_trigger[HL_CONFIG_NAME];
 	char gpio_trigger_edge[HL_CONFIG_NAME]; /* rising | falling | both */
 	char gpio_ecu_enable[HL_CONFIG_NAME];
+	/* [verdict] */
+	char verdict_sets[HL_CONFIG_MAX_SETS]
+			 [HL_CONFIG_SET_ID]; /* set ids, in order; bit i = set i */
+	int n_verdict_sets; /* 0: no verdicts */
+	char regulations[HL_CONFIG_PATH]; /* directory of the sets' ID.json files */
+	bool traffic_left; /* left-hand traffic: the sets' H mirrored */
+	char verdict_modes[HL_CONFIG_PATH]; /* MODE:ID+ID,...: the sets per HdlBeamMode value */
+	/* [road] */
+	double road_levels_lx[HL_CONFIG_ROAD_LEVELS]; /* illuminance levels of the ranges */
+	double road_width_at_m[HL_CONFIG_ROAD_WIDTHS]; /* where the width is taken */
 };
 
 struct hl_config_error {

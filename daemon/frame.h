@@ -8,11 +8,13 @@
 
 #include <stdint.h>
 
+#include "lamp/verdict.h"
 #include "render/headlight.h"
 
 #define HL_FRAME_MAGIC 0x524c4448u /* "HDLR" read as little-endian bytes */
-#define HL_FRAME_VERSION 1
-/* lamps a frame shows: fixed by the 128-byte wire header, and what the renderer lights */
+#define HL_FRAME_VERSION 2 /* 2: verdict set masks and road KPIs, 192 bytes */
+#define HL_FRAME_HEADER_SIZE 192
+/* lamps a frame shows: fixed by the wire header, and what the renderer lights */
 #define HL_FRAME_MAX_LAMPS 2
 
 _Static_assert(HL_FRAME_MAX_LAMPS == HL_HEADLIGHT_MAX_LAMPS,
@@ -30,7 +32,7 @@ enum hl_pixel_format {
 struct hl_frame_header {
 	uint32_t magic;
 	uint16_t version;
-	uint16_t header_size; /* sizeof(struct hl_frame_header): 128 */
+	uint16_t header_size; /* sizeof(struct hl_frame_header): HL_FRAME_HEADER_SIZE */
 	uint64_t seq; /* published frames, from 1; a reader sees gaps when it skipped */
 	uint32_t width, height;
 	uint32_t stride; /* bytes per row */
@@ -51,10 +53,20 @@ struct hl_frame_header {
 	uint8_t reserved0[5];
 	/* CLOCK_MONOTONIC ns: when each lamp's newest complete cycle completed */
 	int64_t t_lamp_done_ns[HL_FRAME_MAX_LAMPS];
-	uint8_t reserved[8];
+	/* verdicts (daemon/verdicts.h): bit i is configured set i (verdict.sets, in order) */
+	uint8_t n_sets; /* configured verdict sets, 0..32 */
+	uint8_t reserved1[3];
+	uint32_t sets_evaluated; /* sets evaluated on this frame */
+	uint32_t sets_failed; /* of those, the ones some requirement failed */
+	/* road KPIs (render/road_kpi.h) at road.levels and road.width_at; 0 = not reached */
+	float centre_range_m[2]; /* along the lane centre, per level */
+	float edge_range_m[2]; /* along the right road edge, per level */
+	float width_m[2]; /* of the first level's area, per distance */
+	uint8_t reserved[36];
 };
 
-_Static_assert(sizeof(struct hl_frame_header) == 128, "the wire header is 128 bytes");
+_Static_assert(sizeof(struct hl_frame_header) == HL_FRAME_HEADER_SIZE,
+	       "the wire header is HL_FRAME_HEADER_SIZE bytes");
 
 /* A frame in memory: the header, its pixels, and what captures need. */
 struct hl_frame {
@@ -64,6 +76,11 @@ struct hl_frame {
 	float *dist[HL_FRAME_MAX_LAMPS]; /* each lamp's combined distribution, cd (grid size) */
 	uint8_t *dims[HL_FRAME_MAX_LAMPS]; /* each lamp's raw dimming values 0..63 */
 	int dist_width, dist_height, n_sources;
+	/* the verdict sets' results of this frame, laid out by daemon/verdicts.h (valid for the
+	 * sets in hdr.sets_evaluated) */
+	struct hl_req_result *results;
+	int n_results;
+	int64_t beam_mode; /* the HdlBeamMode value the sets were chosen by, -1: none */
 };
 
 #endif

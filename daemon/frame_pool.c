@@ -41,7 +41,8 @@ int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct h
 	struct hl_frame_pool *p;
 
 	if (n_frames < 2 || shape->width < 1 || shape->height < 1 || shape->n_lamps < 1 ||
-	    shape->n_lamps > HL_FRAME_MAX_LAMPS || shape->n_sources < 1 ||
+	    shape->n_lamps > HL_FRAME_MAX_LAMPS || shape->n_sources < 1 || shape->n_results < 0 ||
+	    shape->n_sets < 0 || shape->n_sets > 32 ||
 	    (shape->format != HL_PIXEL_RGB8 && shape->format != HL_PIXEL_RGBA16F))
 		return -EINVAL;
 	p = calloc(1, sizeof(*p));
@@ -68,6 +69,13 @@ int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct h
 			if (!f->dist[l] || !f->dims[l])
 				goto err;
 		}
+		if (shape->n_results > 0) {
+			f->results = calloc(shape->n_results, sizeof(*f->results));
+			if (!f->results)
+				goto err;
+		}
+		f->n_results = shape->n_results;
+		f->beam_mode = -1;
 		f->dist_width = shape->dist_width;
 		f->dist_height = shape->dist_height;
 		f->n_sources = shape->n_sources;
@@ -81,6 +89,7 @@ int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct h
 			.pixel_format = shape->format,
 			.payload_size = (uint32_t)pixel_bytes(shape),
 			.n_lamps = (uint8_t)shape->n_lamps,
+			.n_sets = (uint8_t)shape->n_sets,
 		};
 	}
 	*ret = p;
@@ -97,6 +106,7 @@ void hl_frame_pool_free(struct hl_frame_pool *p)
 	for (int i = 0; p->e && i < p->n; i++) {
 		free(p->e[i].frame.pixels);
 		free(p->e[i].frame.lux);
+		free(p->e[i].frame.results);
 		for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
 			free(p->e[i].frame.dist[l]);
 			free(p->e[i].frame.dims[l]);

@@ -25,6 +25,8 @@ struct hl_frame_shape {
 	enum hl_pixel_format format;
 	int n_lamps, n_sources;
 	int dist_width, dist_height;
+	int n_results; /* verdict results per frame (daemon/verdicts.h), 0: none */
+	int n_sets; /* configured verdict sets (the header's n_sets) */
 };
 
 struct hl_frame_pool_counts {

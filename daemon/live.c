@@ -29,6 +29,7 @@
 #include "daemon/pipeline.h"
 #include "daemon/status.h"
 #include "daemon/stream.h"
+#include "daemon/verdicts.h"
 #include "lamp/preset.h"
 
 #define POOL_FRAMES 8
@@ -138,6 +139,8 @@ struct live {
 	struct hl_stream *stream;
 	struct hl_gpio *gpio;
 	struct hl_status *status;
+	struct hl_verdicts *verdicts; /* the regulation sets and road KPIs per frame */
+	bool config_error; /* setup failed on the configuration: exit 2 */
 	struct hl_http *http;
 	struct hl_frame_exr_info exr_info; /* camera and lamp poses for /frame.exr */
 	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
@@ -236,6 +239,7 @@ static int capture(struct live *lv, char *path, size_t size)
 		.gb = hl_pipeline_gbuffer(lv->pipe),
 		.cam = hl_pipeline_camera(lv->pipe),
 		.n_lamps = lv->n_lamps,
+		.verdicts = lv->verdicts,
 	};
 	struct hl_frame *f;
 	char err[512];
@@ -384,6 +388,45 @@ static int load_lids(struct live *lv)
 	return 0;
 }
 
+/* The verdict sets and road KPIs on the lamps' grids at their mounted poses. */
+static int setup_verdicts(struct live *lv)
+{
+	const struct hl_lid_grid *grids[HL_FRAME_MAX_LAMPS] = { NULL };
+	struct hl_lamp_pose poses[HL_FRAME_MAX_LAMPS];
+	struct hl_verdicts_mode_source mode = { -1, NULL };
+	char err[1024];
+	int rc;
+
+	for (int l = 0; l < lv->n_lamps; l++) {
+		grids[l] = hl_lid_grid(lv->lids[l]);
+		hl_lamp_pose_default(l, &poses[l]); /* as the renderer places them */
+		if (mode.lamp < 0 && hl_assembler_mode_signal(lv->a, l))
+			mode = (struct hl_verdicts_mode_source){ l, hl_assembler_mode_signal(lv->a,
+											     l) };
+	}
+	rc = hl_verdicts_new(&lv->cfg, lv->n_lamps, lv->lamp_names, grids, poses, &mode,
+			     &lv->verdicts, err, sizeof(err));
+	if (rc < 0) {
+		log_msg("%s", err);
+		lv->config_error = rc != -ENOMEM;
+		return rc;
+	}
+	for (int i = 0; i < hl_verdicts_n_sets(lv->verdicts); i++) {
+		const struct hl_regulation *reg = hl_verdicts_set(lv->verdicts, i);
+
+		log_msg("verdict: set '%s' (%d requirements, %s): %s", reg->id, reg->n_requirements,
+			reg->applies == HL_REG_PAIR_HALF ? "half the pair's sum" : "each lamp",
+			reg->title);
+	}
+	if (mode.lamp >= 0)
+		log_msg("verdict: beam mode from signal %s of lamp '%s'%s", mode.signal->name,
+			lv->lamp_names[mode.lamp],
+			lv->cfg.verdict_modes[0] ?
+				"" :
+				" (verdict.modes is empty: every set on every frame)");
+	return 0;
+}
+
 /* The render thread and its frame pool, before the CAN thread starts. */
 static int setup_renderer(struct live *lv, int n_src)
 {
@@ -398,6 +441,8 @@ static int setup_renderer(struct live *lv, int n_src)
 		.n_sources = n_src,
 		.dist_width = g->width,
 		.dist_height = g->height,
+		.n_results = hl_verdicts_n_results(lv->verdicts),
+		.n_sets = hl_verdicts_n_sets(lv->verdicts),
 	};
 	const struct hl_pipeline_hooks hooks = { .userdata = lv, .alive = on_alive };
 	char err[512];
@@ -411,8 +456,8 @@ static int setup_renderer(struct live *lv, int n_src)
 	if (rc == 0) {
 		rc = hl_pipeline_new(&lv->cfg, lv->lids, lv->n_lamps,
 				     (const struct hl_source_scale *const *)scales,
-				     (const uint8_t *const *)dims, lv->ring, lv->pool, &hooks,
-				     &lv->pipe);
+				     (const uint8_t *const *)dims, lv->ring, lv->pool, lv->verdicts,
+				     &hooks, &lv->pipe);
 		if (rc < 0)
 			log_msg("render.view '%s': expected display, lux or hdr", lv->cfg.view);
 	}
@@ -459,6 +504,7 @@ static int setup_outputs(struct live *lv)
 		.pipe = lv->pipe,
 		.pool = lv->pool,
 		.gpio = lv->gpio,
+		.verdicts = lv->verdicts,
 	};
 	char err[512];
 	int rc;
@@ -514,6 +560,8 @@ static int setup(struct live *lv)
 	rc = setup_input(lv, &n_src);
 	if (rc == 0 && lv->args->render)
 		rc = load_lids(lv);
+	if (rc == 0 && lv->args->render)
+		rc = setup_verdicts(lv);
 	if (rc == 0)
 		rc = hl_ring_new(lv->args->ring_slots, lv->n_lamps, n_src, &lv->ring);
 	if (rc == 0 && !lv->args->render)
@@ -568,6 +616,7 @@ static void teardown(struct live *lv)
 		hl_frame_pool_unsubscribe(lv->pool, strobe, lv->gpio);
 	hl_gpio_free(lv->gpio);
 	hl_status_free(lv->status);
+	hl_verdicts_free(lv->verdicts); /* after the pipeline and the status that read it */
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);
 	hl_snapshot_free(lv->snap);
@@ -643,6 +692,27 @@ static bool watch(struct live *lv, struct hl_input_status *prev, bool *ready, in
 	return prev->done;
 }
 
+/* The status as one JSON line on stdout (at exit), in a buffer as large as it needs. */
+static void print_status(struct hl_status *st)
+{
+	size_t size = 1 << 16;
+	char *buf = NULL;
+	int n = -ENOBUFS;
+
+	while (n == -ENOBUFS && size <= (16u << 20)) {
+		char *b = realloc(buf, size);
+
+		if (!b)
+			break;
+		buf = b;
+		n = hl_status_json(st, buf, size);
+		size *= 2;
+	}
+	if (n > 0)
+		printf("%s\n", buf);
+	free(buf);
+}
+
 int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 {
 	struct live lv = { .cfg = *cfg, .args = args };
@@ -651,7 +721,6 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	bool ready = false, done = false;
 	sigset_t mask;
 	int sfd, rc, code = 1;
-	char buf[1 << 16];
 
 	lv.input_name = cfg->interface[0] ? cfg->interface : cfg->replay;
 	pthread_mutex_init(&lv.capture_lock, NULL);
@@ -723,14 +792,15 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		hl_pipeline_stop(lv.pipe);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);
-		if (hl_status_json(lv.status, buf, sizeof(buf)) > 0)
-			printf("%s\n", buf);
+		print_status(lv.status);
 	} else if (rc == 0) {
 		hl_can_input_stop(lv.in); /* joined: everything it pushed is in the ring */
 		if (!done)
 			print_pending(&lv);
 		summary(lv.a, lv.ring, lv.in);
 	}
+	if (rc < 0 && lv.config_error)
+		code = 2;
 	teardown(&lv);
 	if (sfd >= 0)
 		close(sfd);

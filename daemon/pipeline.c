@@ -33,6 +33,7 @@ struct hl_pipeline {
 	int n_lamps;
 	struct hl_ring *ring;
 	struct hl_frame_pool *pool;
+	const struct hl_verdicts *verdicts; /* NULL: none */
 	struct hl_pipeline_hooks hooks;
 
 	/* live settings, changed by reload under the lock */
@@ -67,8 +68,8 @@ struct hl_pipeline {
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
 		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
 		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
-		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
-		    struct hl_pipeline **ret)
+		    struct hl_frame_pool *pool, const struct hl_verdicts *verdicts,
+		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret)
 {
 	struct hl_pipeline *p = calloc(1, sizeof(*p));
 	int rc;
@@ -79,6 +80,11 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 	p->n_lamps = n_lamps;
 	p->ring = ring;
 	p->pool = pool;
+	if (verdicts && hl_verdicts_n_results(verdicts) > hl_frame_pool_shape(pool)->n_results) {
+		free(p);
+		return -EINVAL; /* the pool's frames cannot hold the results */
+	}
+	p->verdicts = verdicts;
 	if (hooks)
 		p->hooks = *hooks;
 	p->exposure_ev = cfg->exposure_ev;
@@ -268,10 +274,24 @@ static void teardown(struct hl_pipeline *p)
 	p->egl = NULL;
 }
 
-static void record_time(struct hl_pipeline *p, double ms, bool published, uint32_t flags)
+/* evaluated, failed: the frame's verdict set masks; verdict_ms < 0: no verdicts ran */
+static void record_time(struct hl_pipeline *p, double ms, bool published, uint32_t flags,
+			uint32_t evaluated, uint32_t failed, double verdict_ms)
 {
 	pthread_mutex_lock(&p->lock);
 	p->c.render_ms_last = ms;
+	for (int i = 0; i < HL_VERDICTS_MAX_SETS; i++) {
+		if (!(evaluated & (1u << i)))
+			continue;
+		p->c.verdict_frames[i]++;
+		if (failed & (1u << i))
+			p->c.verdict_failed_frames[i]++;
+	}
+	if (verdict_ms >= 0.0) {
+		p->c.verdict_ms_last = verdict_ms;
+		if (verdict_ms > p->c.verdict_ms_max)
+			p->c.verdict_ms_max = verdict_ms;
+	}
 	if (ms > p->c.render_ms_max)
 		p->c.render_ms_max = ms;
 	hl_prom_histogram_observe(&p->c.render_ms, ms);
@@ -306,6 +326,28 @@ static uint8_t raw_of(const struct hl_source_scale *s, float i)
 	return r < 0 ? 0 : r > UINT8_MAX ? UINT8_MAX : (uint8_t)r;
 }
 
+/*
+ * The frame's verdicts and road KPIs from its distributions, into the frame (before it is
+ * published, so every reader sees them with the frame): the sets of the beam mode the mode
+ * lamp's cycle carries (all without one). Returns the time taken, ms.
+ */
+static double check(struct hl_pipeline *p, struct hl_frame *f)
+{
+	const int64_t t0 = hl_clock_monotonic_ns();
+	const float *dist[HL_FRAME_MAX_LAMPS] = { f->dist[0], p->n_lamps > 1 ? f->dist[1] : NULL };
+	const int ml = hl_verdicts_mode_lamp(p->verdicts);
+	struct hl_road_kpi road;
+
+	f->beam_mode = ml >= 0 && (p->snap->lamps[ml].status & HL_LAMP_VALID) ?
+			       p->snap->lamps[ml].mode :
+			       -1;
+	f->hdr.sets_evaluated = hl_verdicts_active(p->verdicts, f->beam_mode);
+	f->hdr.sets_failed = hl_verdicts_eval(p->verdicts, f->hdr.sets_evaluated, dist, f->results);
+	hl_verdicts_road(p->verdicts, dist, &road);
+	hl_verdicts_road_to_header(&road, &f->hdr);
+	return (double)(hl_clock_monotonic_ns() - t0) / 1e6;
+}
+
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
@@ -314,7 +356,8 @@ static void render(struct hl_pipeline *p)
 	const int64_t t0 = hl_clock_monotonic_ns();
 	uint32_t flags = 0;
 	enum hl_failsafe mode;
-	double ev;
+	double ev, verdict_ms = -1.0;
+	uint32_t evaluated = 0, failed = 0;
 	int newest = 0;
 
 	pthread_mutex_lock(&p->lock);
@@ -387,6 +430,11 @@ static void render(struct hl_pipeline *p)
 			f->hdr.t_lamp_done_ns[l] = s->lamps[l].t_complete_mono_ns;
 			f->hdr.counter[l] = s->lamps[l].counter;
 		}
+		if (p->verdicts) {
+			verdict_ms = check(p, f);
+			evaluated = f->hdr.sets_evaluated;
+			failed = f->hdr.sets_failed;
+		}
 		f->hdr.flags = flags;
 		f->hdr.t_cycle_rx_ns = s->lamps[newest].t_rx_first_ns;
 		f->hdr.t_cycle_done_ns = s->t_push_ns;
@@ -395,7 +443,8 @@ static void render(struct hl_pipeline *p)
 		f->hdr.t_sent_ns = 0;
 		hl_frame_pool_publish(p->pool, f); /* and the pool wakes its subscribers */
 	}
-	record_time(p, (double)(hl_clock_monotonic_ns() - t0) / 1e6, f != NULL, flags);
+	record_time(p, (double)(hl_clock_monotonic_ns() - t0) / 1e6, f != NULL, flags, evaluated,
+		    failed, verdict_ms);
 }
 
 /*

@@ -9,7 +9,8 @@
  * the main thread; counts (locked) and describe, gbuffer, camera (fixed once started) from any
  * thread; the rest runs on the render thread. The hook runs on the render thread and must not
  * block. Published frames reach the outputs through the pool's subscribers; the ring's
- * eventfd wakes the thread.
+ * eventfd wakes the thread. The verdicts (daemon/verdicts.h) are read-only; the render thread
+ * evaluates them into each frame before publishing it, so readers see a frame's results whole.
  */
 #ifndef HL_DAEMON_PIPELINE_H
 #define HL_DAEMON_PIPELINE_H
@@ -20,6 +21,7 @@
 #include "daemon/frame_pool.h"
 #include "daemon/prom.h"
 #include "daemon/ring.h"
+#include "daemon/verdicts.h"
 #include "lamp/lid.h"
 #include "render/scene.h"
 
@@ -40,6 +42,10 @@ struct hl_pipeline_counts {
 	 */
 	uint64_t cycles_not_rendered[HL_FRAME_MAX_LAMPS];
 	double render_ms_last, render_ms_max;
+	/* per verdict set (verdict.sets order): frames it was evaluated on, and failed on */
+	uint64_t verdict_frames[HL_VERDICTS_MAX_SETS];
+	uint64_t verdict_failed_frames[HL_VERDICTS_MAX_SETS];
+	double verdict_ms_last, verdict_ms_max; /* the verdicts and road KPIs of one frame */
 	struct hl_prom_histogram render_ms; /* render time, ms (bounds: hl_pipeline_new) */
 };
 
@@ -57,13 +63,15 @@ struct hl_pipeline;
 /*
  * scales: per lamp, n_sources entries (the ring's), copied. failsafe_dims: per lamp the preset's
  * raw values (n_sources each) for HL_FAILSAFE_PRESET, else NULL. lids must outlive the
- * pipeline. 0, -errno.
+ * pipeline. verdicts (NULL: none), whose results the pool's frames hold (the shape's
+ * n_results), must outlive it too: every frame gets each set's results (the sets the frame's
+ * beam mode selects, all without one) and the road KPIs in its header. 0, -errno.
  */
 int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FRAME_MAX_LAMPS],
 		    int n_lamps, const struct hl_source_scale *const scales[HL_FRAME_MAX_LAMPS],
 		    const uint8_t *const failsafe_dims[HL_FRAME_MAX_LAMPS], struct hl_ring *ring,
-		    struct hl_frame_pool *pool, const struct hl_pipeline_hooks *hooks,
-		    struct hl_pipeline **ret);
+		    struct hl_frame_pool *pool, const struct hl_verdicts *verdicts,
+		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret);
 void hl_pipeline_free(struct hl_pipeline *p);
 
 /*

@@ -44,6 +44,7 @@ struct hl_lamp_snapshot {
 	int64_t t_complete_mono_ns; /* the same moment on CLOCK_MONOTONIC (the push) */
 	uint32_t status; /* HL_LAMP_* */
 	uint8_t counter; /* the ECU's alive counter of the cycle */
+	int64_t mode; /* the cycle's HdlBeamMode raw value, -1 without one (valid with HL_LAMP_VALID) */
 };
 
 /* A snapshot of all lamps; i holds n_lamps * n_sources relative currents, lamp-major. */

@@ -148,6 +148,16 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 			",\"trigger_edges\":%" PRIu64 ",\"trigger_lost\":%" PRIu64 "}",
 			gc.strobe_toggles, gc.strobe_errors, gc.trigger_edges, gc.trigger_lost);
 	}
+	if (s->verdicts && s->pipe && s->pool) {
+		/* the newest frame's results, held while they are written */
+		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);
+
+		fprintf(f, ",\"verdict_ms_last\":%.4f,\"verdict_ms_max\":%.4f,",
+			v.pc.verdict_ms_last, v.pc.verdict_ms_max);
+		hl_verdicts_json(s->verdicts, fr, v.pc.verdict_frames, v.pc.verdict_failed_frames,
+				 f);
+		hl_frame_pool_release(s->pool, fr);
+	}
 	fputc('}', f);
 	n = ftell(f);
 	fclose(f);
@@ -223,6 +233,13 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 		hl_prom_family(&p, "hdlamp_render_ms", HL_PROM_HISTOGRAM,
 			       "Time to render a frame (ms).");
 		hl_prom_histogram(&p, "hdlamp_render_ms", NULL, &v.pc.render_ms);
+	}
+	if (s->verdicts && s->pipe && s->pool) {
+		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);
+
+		hl_verdicts_metrics(s->verdicts, fr, v.pc.verdict_frames,
+				    v.pc.verdict_failed_frames, &p);
+		hl_frame_pool_release(s->pool, fr);
 	}
 	return hl_prom_end(&p);
 }

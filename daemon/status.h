@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The daemon's status for other threads: the /status JSON (also printed at exit) and the
- * /metrics text, read from the input's, ring's, renderer's, pool's and outputs' own counters,
+ * /metrics text, read from the input's, ring's, renderer's, pool's and outputs' own counters
+ * and from the newest published frame (its verdicts and road KPIs, daemon/verdicts.h),
  * plus what only the main thread changes (the fail-safe mode a reload sets, the reload and
  * capture counts), which it keeps under its own lock.
  *
@@ -22,6 +23,7 @@
 #include "daemon/pipeline.h"
 #include "daemon/ring.h"
 #include "daemon/stream.h"
+#include "daemon/verdicts.h"
 
 /* What the status reads; every pointer must outlive it. NULL: that part is off (zeros). */
 struct hl_status_sources {
@@ -34,6 +36,7 @@ struct hl_status_sources {
 	struct hl_frame_pool *pool;
 	struct hl_stream *stream;
 	struct hl_gpio *gpio;
+	const struct hl_verdicts *verdicts; /* with pipe and pool: the newest frame's verdicts */
 };
 
 struct hl_status;

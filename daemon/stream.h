@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The frame stream (docs/daemon.md): a TCP and/or Unix socket; every client receives the
- * newest published frame - the 128-byte header (daemon/frame.h) and the pixels, or the pixels
+ * newest published frame - the 192-byte header (daemon/frame.h) and the pixels, or the pixels
  * only in raw mode (for ffmpeg -f rawvideo). A client that reads slower than frames are
  * published skips to the newest (counted); it never holds a pool frame while it reads, so it
  * cannot delay the renderer or other clients, and its memory is one frame, fixed at accept.

@@ -46,6 +46,7 @@ struct gen {
 	unsigned counter[2];
 	uint64_t cycles[2];
 	float *i; /* one lamp's intensities */
+	int64_t mode[2]; /* each lamp's HdlBeamMode value to send, -1: none (left 0) */
 	struct hl_encoded_frame frames[2][HL_ASM_MAX_PARTS];
 };
 
@@ -57,6 +58,7 @@ static void usage(FILE *f)
 	fprintf(f,
 		"usage: hdlamp scenario --dbc FILE --out LOG [--expect FILE] [--iface NAME]\n"
 		"                       [--phase-cycles N] [--start SECONDS] [--drive hd84|pixel]\n"
+		"                       [--hold PRESET [--mode NAME]]\n"
 		"\n"
 		"Writes a drive scenario for the lamps 'left' and 'right' of the DBC as a candump -L\n"
 		"log. --drive hd84 (the default for 95 sources per lamp, the HD84 lamps): N cycles\n"
@@ -68,7 +70,12 @@ static void usage(FILE *f)
 		"(left), a missing page (right), a counter jump by 3 (left), 300 ms of silence - and\n"
 		"N cycles more: HD84 low beam, or pixel values ramping through 0..63 (one step per\n"
 		"cycle). --expect writes JSON lines: every complete cycle per lamp, then the expected\n"
-		"counters.\n");
+		"counters.\n"
+		"\n"
+		"--hold PRESET writes N cycles of one preset instead, without faults: the name of an\n"
+		"HD84 preset (low, high, glarefree, bend_left, bend_right) or a preset file\n"
+		"NAME.json of the DBC's number of sources. --mode NAME sets the lamps' HdlBeamMode\n"
+		"signal (if the DBC has one) to the value its VAL_ descriptions call NAME.\n");
 }
 
 static void write_frame(struct gen *g, const struct hl_encoded_frame *e)
@@ -95,8 +102,8 @@ static int cycle(struct gen *g, const struct hl_preset *p, int fault_lamp, enum 
 		if (l == fault_lamp && fault == FAULT_JUMP)
 			g->counter[l] = (g->counter[l] + 2) % (max + 1);
 		hl_preset_intensities(p, l, g->i);
-		n[l] = hl_assembler_encode(g->a, l, g->i, g->counter[l], g->frames[l],
-					   HL_ASM_MAX_PARTS);
+		n[l] = hl_assembler_encode_mode(g->a, l, g->i, g->counter[l], g->mode[l],
+						g->frames[l], HL_ASM_MAX_PARTS);
 		if (n[l] < 0)
 			return n[l];
 		if (l == fault_lamp && fault == FAULT_CRC)
@@ -206,6 +213,77 @@ out:
 	return rc;
 }
 
+/* Each lamp's HdlBeamMode value named name; -ENOENT when no lamp has one by that name. */
+static int set_mode(struct gen *g, const char *name)
+{
+	int found = -ENOENT;
+
+	for (int l = 0; l < 2; l++) {
+		const struct hl_dbc_signal *sg = hl_assembler_mode_signal(g->a, l);
+
+		for (int k = 0; sg && k < sg->n_values; k++)
+			if (strcmp(sg->values[k].desc, name) == 0) {
+				g->mode[l] = sg->values[k].value;
+				found = 0;
+			}
+	}
+	return found;
+}
+
+/* N cycles of one preset (a name of the HD84 model's, or a file), no faults. */
+static int run_hold(struct gen *g, int phase, int n_src, const char *hold)
+{
+	struct hl_lid *lamps[2] = { NULL, NULL };
+	struct hl_preset *p = NULL;
+	struct hl_preset_error perr;
+	int rc = -EINVAL;
+
+	if (!strchr(hold, '/') && !strstr(hold, ".json")) {
+		for (int k = 0; hl_model_preset_names[k]; k++)
+			if (strcmp(hl_model_preset_names[k], hold) == 0)
+				rc = 0;
+		if (rc < 0 || n_src != HL_HD84_SOURCES) {
+			fprintf(stderr,
+				"hdlamp scenario: --hold '%s': expected an HD84 preset name (low, high, "
+				"glarefree, bend_left, bend_right; 95 sources per lamp) or a preset file\n",
+				hold);
+			return -EINVAL;
+		}
+		for (int s = 0; s < 2 && rc == 0; s++)
+			rc = hl_model_hd84(s, &lamps[s]);
+		if (rc == 0)
+			rc = hl_preset_new(HL_HD84_SOURCES, &p);
+		if (rc == 0)
+			rc = hl_model_hd84_preset(hold, lamps, p);
+	} else {
+		rc = hl_preset_read(hold, &p, &perr);
+		if (rc < 0) {
+			fprintf(stderr, "hdlamp scenario: --hold '%s':%d:%d: %s\n", hold, perr.line,
+				perr.column, perr.msg);
+		} else if (p->n_sources != n_src) {
+			fprintf(stderr,
+				"hdlamp scenario: --hold '%s': %d values per lamp; the DBC's lamps have "
+				"%d sources\n",
+				hold, p->n_sources, n_src);
+			rc = -EINVAL;
+		}
+	}
+	for (int c = 0; c < phase && rc == 0; c++)
+		rc = cycle(g, p, -1, FAULT_NONE);
+	if (rc == 0 && g->expect)
+		fprintf(g->expect,
+			"{\"expect\":\"counters\",\"silence_ms\":0,"
+			"\"left\":{\"cycles\":%" PRIu64 ",\"crc_errors\":0,\"incomplete\":0,"
+			"\"lost_cycles\":0,\"stale_events\":0,\"recoveries\":0},"
+			"\"right\":{\"cycles\":%" PRIu64 ",\"crc_errors\":0,\"incomplete\":0,"
+			"\"lost_cycles\":0,\"stale_events\":0,\"recoveries\":0}}\n",
+			g->cycles[0], g->cycles[1]);
+	hl_preset_free(p);
+	hl_lid_free(lamps[0]);
+	hl_lid_free(lamps[1]);
+	return rc;
+}
+
 static int pixel_ramp(const void *layout, int c, int n, struct hl_preset *p)
 {
 	return hl_pixel_drive(layout, HL_PIXEL_RAMP, c, n, p);
@@ -244,12 +322,14 @@ int hl_cmd_scenario(int argc, char **argv)
 		{ "phase-cycles", required_argument, NULL, 'n' },
 		{ "start", required_argument, NULL, 's' },
 		{ "drive", required_argument, NULL, 'D' },
+		{ "hold", required_argument, NULL, 'H' },
+		{ "mode", required_argument, NULL, 'M' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
 	static const char *const names[2] = { "left", "right" };
-	const char *dbc_path = NULL, *out = NULL, *expect = NULL;
-	struct gen g = { .iface = "can0", .t_us = 1700000000000000LL };
+	const char *dbc_path = NULL, *out = NULL, *expect = NULL, *hold = NULL, *mode = NULL;
+	struct gen g = { .iface = "can0", .t_us = 1700000000000000LL, .mode = { -1, -1 } };
 	struct hl_dbc *db = NULL;
 	struct hl_dbc_error derr;
 	struct hl_asm_error aerr;
@@ -258,7 +338,7 @@ int hl_cmd_scenario(int argc, char **argv)
 	char *end;
 
 	optind = 1;
-	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:D:h", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:D:H:M:h", opts, NULL)) != -1) {
 		switch (c) {
 		case 'd':
 			dbc_path = optarg;
@@ -302,6 +382,12 @@ int hl_cmd_scenario(int argc, char **argv)
 				return HL_EXIT_USAGE;
 			}
 			break;
+		case 'H':
+			hold = optarg;
+			break;
+		case 'M':
+			mode = optarg;
+			break;
 		case 'h':
 			usage(stdout);
 			return HL_EXIT_OK;
@@ -310,7 +396,7 @@ int hl_cmd_scenario(int argc, char **argv)
 			return HL_EXIT_USAGE;
 		}
 	}
-	if (!dbc_path || !out || optind != argc || strlen(g.iface) >= IFNAMSIZ) {
+	if (!dbc_path || !out || optind != argc || strlen(g.iface) >= IFNAMSIZ || (mode && !hold)) {
 		usage(stderr);
 		return HL_EXIT_USAGE;
 	}
@@ -321,6 +407,13 @@ int hl_cmd_scenario(int argc, char **argv)
 	}
 	if (hl_assembler_new(db, names, 2, 100, 0, &g.a, &aerr) < 0) {
 		fprintf(stderr, "hdlamp scenario: '%s': %s\n", dbc_path, aerr.msg);
+		goto out;
+	}
+	if (mode && set_mode(&g, mode) < 0) {
+		fprintf(stderr,
+			"hdlamp scenario: --mode '%s': '%s' has no signal with HdlBeamMode whose "
+			"VAL_ descriptions name it\n",
+			mode, dbc_path);
 		goto out;
 	}
 	n_src = hl_assembler_n_sources(g.a, 0);
@@ -355,7 +448,10 @@ int hl_cmd_scenario(int argc, char **argv)
 			strerror(errno));
 		goto out;
 	}
-	if ((drive == DRIVE_HD84 ? run_hd84(&g, phase) : run_pixel(&g, phase, n_src)) < 0) {
+	if (hold) {
+		if (run_hold(&g, phase, n_src, hold) < 0)
+			goto out; /* said why */
+	} else if ((drive == DRIVE_HD84 ? run_hd84(&g, phase) : run_pixel(&g, phase, n_src)) < 0) {
 		fprintf(stderr, "hdlamp scenario: '%s' cannot carry the presets\n", dbc_path);
 		goto out;
 	}

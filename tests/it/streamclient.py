@@ -2,13 +2,16 @@
 import socket
 import struct
 
-HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2q8x")
+HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6f36x")
 MAGIC = 0x524C4448
 FIELDS = ("magic", "version", "header_size", "seq", "width", "height", "stride", "pixel_format",
           "payload_size", "flags", "t_cycle_rx_ns", "t_cycle_done_ns", "t_render_start_ns",
           "t_render_done_ns", "t_sent_ns", "cycle_seq_left", "cycle_seq_right", "counter_left",
-          "counter_right", "n_lamps", "t_lamp_done_left", "t_lamp_done_right")
-assert HEADER.size == 128
+          "counter_right", "n_lamps", "t_lamp_done_left", "t_lamp_done_right", "n_sets",
+          "sets_evaluated", "sets_failed", "centre_range_1_m", "centre_range_2_m",
+          "edge_range_1_m", "edge_range_2_m", "width_1_m", "width_2_m")
+VERSION = 2
+assert HEADER.size == 192
 
 
 def recv_exact(sock, n):
@@ -27,7 +30,7 @@ def read_frame(sock):
     if raw is None:
         return None
     h = dict(zip(FIELDS, HEADER.unpack(raw)))
-    assert h["magic"] == MAGIC and h["version"] == 1 and h["header_size"] == 128, h
+    assert h["magic"] == MAGIC and h["version"] == VERSION and h["header_size"] == HEADER.size, h
     pixels = recv_exact(sock, h["payload_size"])
     return (h, pixels) if pixels is not None else None
 

@@ -270,7 +270,10 @@ def test_sigusr1_capture_reads_back(hdlamp, lamps, tmp_path):
     dirs = sorted(cap.iterdir())
     assert len(dirs) == 1
     files = sorted(f.name for f in dirs[0].iterdir())
-    assert files == ["hdr.exr", "left.lid.exr", "lux.exr", "right.lid.exr"]
+    # verdict.json: no verdict sets configured, but the frame's road KPIs
+    assert files == ["hdr.exr", "left.lid.exr", "lux.exr", "right.lid.exr", "verdict.json"]
+    verdict = json.loads((dirs[0] / "verdict.json").read_text())
+    assert verdict["verdicts"]["sets"] == [] and verdict["road"]["centre_range_m"][0] > 0
     hdr = run("exrheader", dirs[0] / "lux.exr").stdout
     seq = int(re.search(r'hdlamp:frameSeq \(type string\): "(\d+)"', hdr).group(1))
     assert dirs[0].name == f"frame-{seq:08d}"

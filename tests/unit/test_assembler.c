@@ -366,6 +366,93 @@ static void assembler_hdl_source_default_1_assembles_the_same_cycles(void **stat
 	hl_dbc_free(db1);
 }
 
+/* The text of a file of the source tree (malloc'd, NUL-terminated), its length in *ret_n. */
+static char *read_text(const char *rel, long *ret_n)
+{
+	char path[512], *text;
+	FILE *f;
+	long n;
+
+	snprintf(path, sizeof(path), "%s/%s", getenv("HL_SOURCE_DIR"), rel);
+	f = fopen(path, "re");
+	assert_non_null(f);
+	fseek(f, 0, SEEK_END);
+	n = ftell(f);
+	rewind(f);
+	text = calloc(1, n + 1);
+	assert_non_null(text);
+	assert_int_equal(fread(text, 1, n, f), n);
+	fclose(f);
+	*ret_n = n;
+	return text;
+}
+
+/*
+ * hd84_fd.dbc with a 4-bit HL_Mode_L/_R in the last byte of each lamp's second message
+ * (tests/data/dbc/hd84_fd_beam_mode.dbc): its value rides with the lamp's cycle.
+ */
+static void assembler_beam_mode_signal_rides_with_the_cycle(void **state)
+{
+	struct hl_dbc *db, *plain = load_db("hd84_fd.dbc");
+	struct hl_assembler *a, *ap;
+	struct hl_asm_error err;
+	struct hl_encoded_frame fr[64];
+	struct hl_asm_events ev;
+	struct hl_dbc_error derr;
+	const struct hl_dbc_signal *sg;
+	unsigned long long rng = 5;
+	float in[95];
+	long n;
+	char *text = read_text("tests/data/dbc/hd84_fd_beam_mode.dbc", &n), *at;
+	(void)state;
+
+	assert_int_equal(hl_dbc_parse(text, n, &db, &derr), 0);
+	assert_int_equal(hl_assembler_new(db, lamps, 2, 100, 0, &a, &err), 0);
+	assert_int_equal(hl_assembler_new(plain, lamps, 2, 100, 0, &ap, &err), 0);
+	sg = hl_assembler_mode_signal(a, 0);
+	assert_non_null(sg);
+	assert_string_equal(sg->name, "HL_Mode_L");
+	assert_int_equal(sg->n_values, 3);
+	assert_string_equal(sg->values[2].desc, "glarefree");
+	assert_string_equal(hl_assembler_mode_signal(a, 1)->name, "HL_Mode_R");
+	assert_null(hl_assembler_mode_signal(ap, 0));
+	assert_int_equal(hl_assembler_n_sources(a, 0), 95); /* the mode is no source */
+	for (int cyc = 0; cyc < 6; cyc++) {
+		struct hl_cycle c = { 0 };
+		const int64_t mode = cyc % 3;
+		int k;
+
+		values(&rng, in);
+		k = hl_assembler_encode_mode(a, 0, in, (unsigned)cyc, mode, fr, 64);
+		assert_int_equal(k, 2);
+		assert_int_equal(feed(a, fr, k, cyc * 20 * MS, &c, &ev), 1);
+		assert_true(c.mode == mode);
+		assert_memory_equal(c.i, in, sizeof(in));
+		/* the plain database's lamps carry no mode; its frames are the same size */
+		k = hl_assembler_encode(ap, 0, in, (unsigned)cyc, fr, 64);
+		assert_int_equal(feed(ap, fr, k, cyc * 20 * MS, &c, &ev), 1);
+		assert_true(c.mode == -1);
+	}
+	hl_assembler_free(a);
+	hl_assembler_free(ap);
+	hl_dbc_free(db);
+
+	/* without VAL_ names the modes have none: refused */
+	for (int l = 0; l < 2; l++) { /* both lamps' VAL_ statements blanked */
+		at = strstr(text, l ? "VAL_ 819 HL_Mode_R" : "VAL_ 817 HL_Mode_L");
+		assert_non_null(at);
+		memset(at, ' ', strcspn(at, ";") + 1);
+	}
+	assert_int_equal(hl_dbc_parse(text, n, &db, &derr), 0);
+	assert_int_equal(hl_assembler_new(db, lamps, 2, 100, 0, &a, &err), -EINVAL);
+	assert_non_null(strstr(err.msg, "signal HL_Mode_L of message HL_DimB_L (line "));
+	assert_non_null(
+		strstr(err.msg, "): HdlBeamMode needs the modes' names as VAL_ descriptions"));
+	hl_dbc_free(db);
+	hl_dbc_free(plain);
+	free(text);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -391,6 +478,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(
 			assembler_hdl_source_default_1_assembles_the_same_cycles, setup_classic,
 			teardown),
+		cmocka_unit_test(assembler_beam_mode_signal_rides_with_the_cycle),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -92,7 +92,7 @@ static void start(struct fixture *f, enum hl_failsafe mode, const uint8_t *const
 	assert_int_equal(hl_snapshot_new(f->ring, &f->s), 0);
 	assert_int_equal(hl_frame_pool_new(4, &shape, &f->pool), 0);
 	assert_int_equal(hl_pipeline_new(&f->cfg, f->lids, LAMPS, scales, dims, f->ring, f->pool,
-					 NULL, &f->p),
+					 NULL, NULL, &f->p),
 			 0);
 	if (hl_pipeline_start(f->p, err, sizeof(err)) < 0)
 		fail_msg("%s", err);
