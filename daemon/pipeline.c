@@ -331,7 +331,7 @@ static uint8_t raw_of(const struct hl_source_scale *s, float i)
  * published, so every reader sees them with the frame): the sets of the beam mode the mode
  * lamp's cycle carries (all without one). Returns the time taken, ms.
  */
-static double check(struct hl_pipeline *p, struct hl_frame *f)
+static double check(struct hl_pipeline *p, struct hl_frame *f, const struct hl_verdict_peak *peaks)
 {
 	const int64_t t0 = hl_clock_monotonic_ns();
 	const float *dist[HL_FRAME_MAX_LAMPS] = { f->dist[0], p->n_lamps > 1 ? f->dist[1] : NULL };
@@ -342,7 +342,8 @@ static double check(struct hl_pipeline *p, struct hl_frame *f)
 			       p->snap->lamps[ml].mode :
 			       -1;
 	f->hdr.sets_evaluated = hl_verdicts_active(p->verdicts, f->beam_mode);
-	f->hdr.sets_failed = hl_verdicts_eval(p->verdicts, f->hdr.sets_evaluated, dist, f->results);
+	f->hdr.sets_failed =
+		hl_verdicts_eval_peaks(p->verdicts, f->hdr.sets_evaluated, dist, peaks, f->results);
 	hl_verdicts_road(p->verdicts, dist, &road);
 	hl_verdicts_road_to_header(&road, &f->hdr);
 	return (double)(hl_clock_monotonic_ns() - t0) / 1e6;
@@ -357,6 +358,7 @@ static void render(struct hl_pipeline *p)
 	uint32_t flags = 0;
 	enum hl_failsafe mode;
 	double ev, verdict_ms = -1.0;
+	struct hl_verdict_peak peaks[HL_FRAME_MAX_LAMPS];
 	uint32_t evaluated = 0, failed = 0;
 	int newest = 0;
 
@@ -424,14 +426,19 @@ static void render(struct hl_pipeline *p)
 		for (int l = 0; l < p->n_lamps; l++) {
 			const struct hl_lid_grid *g = hl_renderer_grid(p->r, l);
 
-			memcpy(f->dist[l], hl_renderer_distribution(p->r, l),
-			       sizeof(float) * (size_t)g->width * g->height);
+			/* with verdicts, the copy also finds each lamp's peak (Imax) */
+			if (p->verdicts)
+				hl_verdict_copy_peak(f->dist[l], hl_renderer_distribution(p->r, l),
+						     (size_t)g->width * g->height, &peaks[l]);
+			else
+				memcpy(f->dist[l], hl_renderer_distribution(p->r, l),
+				       sizeof(float) * (size_t)g->width * g->height);
 			f->hdr.cycle_seq[l] = s->lamps[l].cycle_seq;
 			f->hdr.t_lamp_done_ns[l] = s->lamps[l].t_complete_mono_ns;
 			f->hdr.counter[l] = s->lamps[l].counter;
 		}
 		if (p->verdicts) {
-			verdict_ms = check(p, f);
+			verdict_ms = check(p, f, peaks);
 			evaluated = f->hdr.sets_evaluated;
 			failed = f->hdr.sets_failed;
 		}

@@ -18,6 +18,7 @@ struct set {
 struct hl_verdicts {
 	int n_lamps;
 	char lamp_names[HL_FRAME_MAX_LAMPS][64];
+	size_t n_samples[HL_FRAME_MAX_LAMPS]; /* each lamp's grid */
 	bool traffic_left;
 	int n_sets, n_results;
 	struct set sets[HL_VERDICTS_MAX_SETS];
@@ -228,6 +229,8 @@ int hl_verdicts_new(const struct hl_config *cfg, int n_lamps, const char *const 
 		return -ENOMEM;
 	}
 	v->n_lamps = n_lamps;
+	for (int l = 0; l < n_lamps; l++)
+		v->n_samples[l] = (size_t)grids[l]->width * grids[l]->height;
 	v->traffic_left = cfg->traffic_left;
 	v->mode_lamp = mode && mode->signal && mode->lamp >= 0 ? mode->lamp : -1;
 	v->mode_signal = v->mode_lamp >= 0 ? mode->signal : NULL;
@@ -348,7 +351,23 @@ const struct hl_road_kpi_options *hl_verdicts_road_options(const struct hl_verdi
 uint32_t hl_verdicts_eval(const struct hl_verdicts *v, uint32_t active, const float *const *dist,
 			  struct hl_req_result *results)
 {
+	return hl_verdicts_eval_peaks(v, active, dist, NULL, results);
+}
+
+uint32_t hl_verdicts_eval_peaks(const struct hl_verdicts *v, uint32_t active,
+				const float *const *dist, const struct hl_verdict_peak *lamp_peaks,
+				struct hl_req_result *results)
+{
+	/* each distribution's peak once per frame, for every set with an Imax row:
+	 * [0], [1] the lamps, [2] half the pair's sum */
+	struct hl_verdict_peak peak[3];
+	bool have[3] = { false, false, false };
 	uint32_t failed = 0;
+
+	for (int l = 0; lamp_peaks && l < v->n_lamps; l++) {
+		peak[l] = lamp_peaks[l];
+		have[l] = true;
+	}
 
 	for (int i = 0; i < v->n_sets; i++) {
 		const struct set *s = &v->sets[i];
@@ -357,11 +376,19 @@ uint32_t hl_verdicts_eval(const struct hl_verdicts *v, uint32_t active, const fl
 			continue;
 		for (int j = 0; j < s->n_parts; j++) {
 			const int l = s->part[j].lamp;
-			const bool pass = l == HL_VERDICTS_PAIR ?
-						  hl_verdict_eval(s->plan[j], dist[0], dist[1],
-								  results + s->part[j].first) :
-						  hl_verdict_eval(s->plan[j], dist[l], NULL,
-								  results + s->part[j].first);
+			const int pk = l == HL_VERDICTS_PAIR ? 2 : l;
+			const float *a = l == HL_VERDICTS_PAIR ? dist[0] : dist[l];
+			const float *b = l == HL_VERDICTS_PAIR ? dist[1] : NULL;
+			bool pass;
+
+			if (!have[pk] && hl_verdict_needs_peak(s->plan[j])) {
+				/* a pair set exists only on one grid (checked at start) */
+				hl_verdict_peak(v->n_samples[l == HL_VERDICTS_PAIR ? 0 : l], a, b,
+						&peak[pk]);
+				have[pk] = true;
+			}
+			pass = hl_verdict_eval_peak(s->plan[j], a, b, have[pk] ? &peak[pk] : NULL,
+						    results + s->part[j].first);
 
 			if (!pass)
 				failed |= 1u << i;

@@ -97,6 +97,14 @@ const struct hl_road_kpi_options *hl_verdicts_road_options(const struct hl_verdi
  */
 uint32_t hl_verdicts_eval(const struct hl_verdicts *v, uint32_t active, const float *const *dist,
 			  struct hl_req_result *results);
+/*
+ * The same with each lamp's peak (n_lamps entries, from hl_verdict_copy_peak() as the frame's
+ * distributions were copied) given, so that no set scans a whole grid for its Imax; NULL:
+ * computed where needed.
+ */
+uint32_t hl_verdicts_eval_peaks(const struct hl_verdicts *v, uint32_t active,
+				const float *const *dist, const struct hl_verdict_peak *lamp_peaks,
+				struct hl_req_result *results);
 /* Render thread: the road KPIs of the distributions. Allocates nothing. */
 void hl_verdicts_road(const struct hl_verdicts *v, const float *const *dist,
 		      struct hl_road_kpi *ret);

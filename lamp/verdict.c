@@ -24,6 +24,7 @@
 
 #define CHUNK_POS 64 /* positions per chunk of a segment or zone */
 #define TILE 8 /* a zone's lattice in TILE x TILE tiles: compact chunks */
+#define BOUNDS_KEPT 1024 /* chunk bounds kept on the stack during one requirement */
 
 struct plan_req {
 	uint32_t first_pos, n_pos;
@@ -541,28 +542,78 @@ static float max_sum(const float *a, const float *b, size_t n)
 }
 
 /* The highest sample, and where; two passes so that the first vectorises. */
-static void imax(const struct hl_verdict *v, const float *a, const float *b,
+#define PEAK_BLOCK 4096 /* samples: a block stays in L1 between its copy and its scan */
+
+/* The block holding the largest value of x (or x + y), and that value; blocks of PEAK_BLOCK. */
+static void peak_in_blocks(const float *x, const float *y, size_t n, float *ret_m,
+			   size_t *ret_index)
+{
+	float m = -1.0f;
+	size_t best = 0, at;
+
+	for (size_t b0 = 0; b0 < n; b0 += PEAK_BLOCK) {
+		const size_t len = n - b0 < PEAK_BLOCK ? n - b0 : PEAK_BLOCK;
+		const float bm = y ? max_sum(x + b0, y + b0, len) : max_of(x + b0, len);
+
+		if (bm > m) {
+			m = bm;
+			best = b0;
+		}
+	}
+	/* the first sample of the best block that holds it */
+	for (at = best; at < n && (y ? x[at] + y[at] : x[at]) != m; at++)
+		;
+	*ret_m = m < 0.0f ? 0.0f : m;
+	*ret_index = at == n ? 0 : at;
+}
+
+void hl_verdict_peak(size_t n, const float *a, const float *b, struct hl_verdict_peak *ret)
+{
+	float m;
+
+	peak_in_blocks(a, b, n, &m, &ret->index);
+	ret->value_cd = b ? 0.5f * m : m;
+}
+
+void hl_verdict_copy_peak(float *restrict dst, const float *restrict src, size_t n,
+			  struct hl_verdict_peak *ret)
+{
+	float m = -1.0f;
+	size_t best = 0, at;
+
+	for (size_t b0 = 0; b0 < n; b0 += PEAK_BLOCK) {
+		const size_t len = n - b0 < PEAK_BLOCK ? n - b0 : PEAK_BLOCK;
+		float bm;
+
+		memcpy(dst + b0, src + b0, len * sizeof(float));
+		bm = max_of(dst + b0, len); /* still in L1 */
+		if (bm > m) {
+			m = bm;
+			best = b0;
+		}
+	}
+	for (at = best; at < n && dst[at] != m; at++)
+		;
+	ret->value_cd = m < 0.0f ? 0.0f : m;
+	ret->index = at == n ? 0 : at;
+}
+
+bool hl_verdict_needs_peak(const struct hl_verdict *v)
+{
+	for (int i = 0; i < v->reg->n_requirements; i++)
+		if (v->reg->req[i].kind == HL_REQ_IMAX)
+			return true;
+	return false;
+}
+
+static void imax(const struct hl_verdict *v, const struct hl_verdict_peak *p,
 		 struct hl_req_result *r)
 {
-	const size_t n = v->n_samples;
-	float m = 0.0f;
-	size_t at = 0;
-
-	if (b) {
-		m = max_sum(a, b, n);
-		while (at < n && a[at] + b[at] != m)
-			at++;
-		m *= 0.5f;
-	} else {
-		m = max_of(a, n);
-		while (at < n && a[at] != m)
-			at++;
-	}
-	if (at == n)
-		at = 0;
-	r->value_cd = m;
-	r->at_h_deg = hl_lid_grid_h_deg(&v->grid, (int)(at % v->grid.width)) + v->opts.aim_h_deg;
-	r->at_v_deg = hl_lid_grid_v_deg(&v->grid, (int)(at / v->grid.width)) + v->opts.aim_v_deg;
+	r->value_cd = p->value_cd;
+	r->at_h_deg =
+		hl_lid_grid_h_deg(&v->grid, (int)(p->index % v->grid.width)) + v->opts.aim_h_deg;
+	r->at_v_deg =
+		hl_lid_grid_v_deg(&v->grid, (int)(p->index / v->grid.width)) + v->opts.aim_v_deg;
 }
 
 static double limit_cd(const struct hl_req_limit *l, const struct hl_req_result *done)
@@ -601,9 +652,13 @@ static double chunk_max(const struct hl_verdict *v, const struct plan_req *pr, c
 	double best = -INFINITY, top = -INFINITY;
 	uint32_t first = 0, at = pr->first_pos;
 
+	float bounds[BOUNDS_KEPT]; /* the first chunks' bounds, not computed twice */
+
 	for (uint32_t c = 0; c < pr->n_chunks; c++) {
 		const double bound = chunk_bound(v, &cs[c], a, b);
 
+		if (c < BOUNDS_KEPT)
+			bounds[c] = (float)bound;
 		if (bound > top) {
 			top = bound;
 			first = c;
@@ -613,7 +668,9 @@ static double chunk_max(const struct hl_verdict *v, const struct plan_req *pr, c
 		/* k == 0: the most promising chunk; then the others in order */
 		const uint32_t c = k == 0 ? first : k - 1;
 
-		if (k > 0 && (c == first || chunk_bound(v, &cs[c], a, b) <= best))
+		if (k > 0 &&
+		    (c == first ||
+		     (c < BOUNDS_KEPT ? (double)bounds[c] : chunk_bound(v, &cs[c], a, b)) <= best))
 			continue;
 		for (uint32_t p = cs[c].first_pos; p < cs[c].first_pos + cs[c].n_pos; p++) {
 			const double x = value_at(v, p, a, b);
@@ -641,6 +698,13 @@ static double margin_max(double value, double max)
 bool hl_verdict_eval(const struct hl_verdict *v, const float *a, const float *b,
 		     struct hl_req_result *ret)
 {
+	return hl_verdict_eval_peak(v, a, b, NULL, ret);
+}
+
+bool hl_verdict_eval_peak(const struct hl_verdict *v, const float *a, const float *b,
+			  const struct hl_verdict_peak *peak, struct hl_req_result *ret)
+{
+	struct hl_verdict_peak own;
 	bool all = true;
 
 	for (int i = 0; i < v->reg->n_requirements; i++) {
@@ -655,7 +719,11 @@ bool hl_verdict_eval(const struct hl_verdict *v, const float *a, const float *b,
 		r->value_cd = NAN;
 		r->at_h_deg = r->at_v_deg = NAN;
 		if (req->kind == HL_REQ_IMAX) {
-			imax(v, a, b, r);
+			if (!peak) {
+				hl_verdict_peak(v->n_samples, a, b, &own);
+				peak = &own;
+			}
+			imax(v, peak, r);
 		} else if (req->kind == HL_REQ_POINT || req->kind == HL_REQ_SUM) {
 			if (!pr->n_outside) {
 				double s = 0.0;

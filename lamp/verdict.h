@@ -23,6 +23,7 @@
 #define HL_LAMP_VERDICT_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "lamp/lid.h"
 #include "lamp/regulation.h"
@@ -65,6 +66,33 @@ const struct hl_regulation *hl_verdict_regulation(const struct hl_verdict *v);
  */
 bool hl_verdict_eval(const struct hl_verdict *v, const float *a, const float *b,
 		     struct hl_req_result *ret);
+
+/*
+ * A distribution's highest sample and its index (row-major on the grid): what every Imax
+ * requirement of a frame reads. Computing it once per distribution and frame and handing it to
+ * hl_verdict_eval_peak() saves a scan of the whole grid per set.
+ */
+struct hl_verdict_peak {
+	float value_cd;
+	size_t index;
+};
+
+/* The peak of a, or of (a + b) / 2 with b not NULL (n samples). */
+void hl_verdict_peak(size_t n, const float *a, const float *b, struct hl_verdict_peak *ret);
+/*
+ * Copies n samples from src to dst and finds their peak on the way: a frame that copies its
+ * distributions anyway gets the peak for almost nothing (the copy is memory-bound).
+ */
+void hl_verdict_copy_peak(float *restrict dst, const float *restrict src, size_t n,
+			  struct hl_verdict_peak *ret);
+/* Whether the set has an Imax requirement (reads the peak). */
+bool hl_verdict_needs_peak(const struct hl_verdict *v);
+/*
+ * hl_verdict_eval() with the peak of the same a (and b) given; NULL computes it (as
+ * hl_verdict_eval() does).
+ */
+bool hl_verdict_eval_peak(const struct hl_verdict *v, const float *a, const float *b,
+			  const struct hl_verdict_peak *peak, struct hl_req_result *ret);
 
 /* The receiver's mean intensity at (h, v) of a dense distribution: the same quadrature. */
 double hl_verdict_receiver_mean(const struct hl_lid_grid *grid, const float *dense,
