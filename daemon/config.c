@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lamp/regulation.h"
+
 enum kind {
 	STRING,
 	PATH,
@@ -119,7 +121,10 @@ void hl_config_defaults(struct hl_config *c)
 	strcpy(c->http_listen, "127.0.0.1:8080");
 	strcpy(c->capture_dir, "captures");
 	strcpy(c->gpio_trigger_edge, "rising");
-	snprintf(c->regulations, sizeof(c->regulations), "%s", HL_REGULATIONS_DIR);
+	/* the sets beside the binary (lamp/regulation.h): /usr/bin/hdlampd ->
+	 * /usr/share/hdlamp/regulations, and the build tree's own link */
+	if (hl_regulation_default_dir(c->regulations, sizeof(c->regulations)) < 0)
+		c->regulations[0] = '\0'; /* a configured set then names the missing directory */
 	c->road_levels_lx[0] = 1.0;
 	c->road_levels_lx[1] = 3.0;
 	c->road_width_at_m[0] = 25.0;

@@ -149,7 +149,7 @@ static void config_verdict_and_road_keys(void **state)
 	assert_false(c.traffic_left);
 	assert_true(c.road_levels_lx[0] == 1.0 && c.road_levels_lx[1] == 3.0);
 	assert_true(c.road_width_at_m[0] == 25.0 && c.road_width_at_m[1] == 50.0);
-	/* the installed sets: CMAKE_INSTALL_FULLDATADIR/hdlamp/regulations */
+	/* the sets beside the binary: ../share/hdlamp/regulations (lamp/regulation.h) */
 	assert_true(c.regulations[0] == '/');
 	assert_non_null(strstr(c.regulations, "/hdlamp/regulations"));
 	assert_string_equal(strstr(c.regulations, "/hdlamp/regulations"), "/hdlamp/regulations");
