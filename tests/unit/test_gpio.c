@@ -34,56 +34,8 @@
 static int sentinel;
 #define SENTINEL ((struct hl_gpio *)&sentinel)
 
-/*
- * Counting allocations on the hot paths: this executable's malloc, calloc and realloc take
- * precedence over libc's for every caller, libgpiod included, and count while asked to.
- * (Not under AddressSanitizer or ThreadSanitizer, which bring their own.)
- */
-static _Atomic long allocs = -1; /* -1: not counting */
-
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define HL_SANITIZER 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define HL_SANITIZER 1
-#endif
-
-#if defined(HL_SANITIZER)
-#define HL_COUNT_ALLOCS 0
-#else
-#define HL_COUNT_ALLOCS 1
-extern void *__libc_malloc(size_t size);
-extern void *__libc_calloc(size_t n, size_t size);
-extern void *__libc_realloc(void *p, size_t size);
-
-static void count_alloc(void)
-{
-	long n = allocs;
-
-	if (n >= 0)
-		allocs = n + 1;
-}
-
-void *malloc(size_t size)
-{
-	count_alloc();
-	return __libc_malloc(size);
-}
-
-void *calloc(size_t n, size_t size)
-{
-	count_alloc();
-	return __libc_calloc(n, size);
-}
-
-void *realloc(void *p, size_t size)
-{
-	count_alloc();
-	return __libc_realloc(p, size);
-}
-#endif
+/* Counting allocations on the hot paths (libgpiod's and the render path's included). */
+#include "alloc_count.h"
 
 static const char *sim_chip(void)
 {
