@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "lamp/regulation.h"
 
@@ -436,6 +437,18 @@ int hl_config_load(struct hl_config *cfg, const char *path, struct hl_config_err
 		if (err)
 			snprintf(err->msg, sizeof(err->msg), "'%s': %s", path, strerror(errno));
 		return rc;
+	}
+	{
+		struct stat st;
+
+		/* fopen() opens a directory and reading it yields nothing: refuse it */
+		if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+			fclose(f);
+			if (err)
+				snprintf(err->msg, sizeof(err->msg),
+					 "'%s': a directory; expected an INI file", path);
+			return -EINVAL;
+		}
 	}
 	line = ini_parse_file(f, on_pair, &c);
 	/* the first fault is either the refused key or a syntax error before it */

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/uio.h>
 #include <sys/un.h>
 #include <unistd.h>
@@ -99,6 +100,54 @@ static int listen_tcp(const char *spec, int *ret_port, char *err, size_t err_siz
 	return fd;
 }
 
+/*
+ * What is at the socket's path goes only when it is a socket nobody listens on (a stale one of
+ * an earlier run): anything else - a file, a directory, a socket in use - is refused, never
+ * deleted.
+ */
+static int remove_stale_socket(const struct sockaddr_un *sa, char *err, size_t err_size)
+{
+	struct stat st;
+	int fd, rc;
+
+	if (lstat(sa->sun_path, &st) < 0) {
+		if (errno == ENOENT)
+			return 0;
+		rc = -errno;
+		snprintf(err, err_size, "stream.unix '%s': %s", sa->sun_path, strerror(errno));
+		return rc;
+	}
+	if (!S_ISSOCK(st.st_mode)) {
+		snprintf(err, err_size,
+			 "stream.unix '%s': exists and is not a socket; refusing to replace it",
+			 sa->sun_path);
+		return -EEXIST;
+	}
+	fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+	if (fd < 0) {
+		rc = -errno;
+		snprintf(err, err_size, "stream.unix: socket: %s", strerror(errno));
+		return rc;
+	}
+	rc = connect(fd, (const struct sockaddr *)sa, sizeof(*sa)) == 0 ? -EADDRINUSE : -errno;
+	close(fd);
+	if (rc == -EADDRINUSE) {
+		snprintf(err, err_size, "stream.unix '%s': another process listens on it",
+			 sa->sun_path);
+		return rc;
+	}
+	if (rc != -ECONNREFUSED) {
+		snprintf(err, err_size, "stream.unix '%s': %s", sa->sun_path, strerror(-rc));
+		return rc;
+	}
+	if (unlink(sa->sun_path) < 0) { /* stale: nobody listens */
+		rc = -errno;
+		snprintf(err, err_size, "stream.unix '%s': %s", sa->sun_path, strerror(errno));
+		return rc;
+	}
+	return 0;
+}
+
 static int listen_unix(const char *path, char *err, size_t err_size)
 {
 	struct sockaddr_un sa = { .sun_family = AF_UNIX };
@@ -109,7 +158,9 @@ static int listen_unix(const char *path, char *err, size_t err_size)
 		return -EINVAL;
 	}
 	strcpy(sa.sun_path, path);
-	unlink(path); /* a stale socket of an earlier run */
+	rc = remove_stale_socket(&sa, err, err_size);
+	if (rc < 0)
+		return rc;
 	fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
 	if (fd < 0 || bind(fd, (struct sockaddr *)&sa, sizeof(sa)) < 0 || listen(fd, 8) < 0) {
 		rc = -errno;
