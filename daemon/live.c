@@ -519,12 +519,9 @@ static int setup_outputs(struct live *lv)
 			log_msg("%s", err);
 			return rc;
 		}
-		if (!lv->cfg.stream_tcp[0])
-			log_msg("frame stream on %s", lv->cfg.stream_unix);
-		else
-			log_msg("frame stream on %s%s%s (port %d)", lv->cfg.stream_tcp,
-				lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
-				hl_stream_tcp_port(lv->stream));
+		log_msg("frame stream on %s%s%s (port %d)", lv->cfg.stream_tcp,
+			lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
+			hl_stream_tcp_port(lv->stream));
 	}
 	ss.stream = lv->stream;
 	rc = hl_status_new(&ss, lv->cfg.failsafe, &lv->status);
