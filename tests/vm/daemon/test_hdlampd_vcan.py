@@ -14,7 +14,7 @@ import can
 import pytest
 
 from scenario import HDLAMPD, check_against_expectation, dbc_path, generate, parse_output
-from vmutil import Lines, sh
+from vmutil import Lines, replay_can, sh
 
 TIMEOUT_MS = 100
 
@@ -45,17 +45,10 @@ def stop_daemon(p, lines):
 
 
 def replay(path, fd=False):
-    """python-can replays a log onto vcan0 with its original timing. The log is read first:
-    parsing ASC or BLF while sending cannot keep up with 1200 frames/s in this slow VM."""
-    msgs = list(can.LogReader(path))
-    late_ms = []
-    with can.Bus(interface="socketcan", channel="vcan0", fd=fd) as bus:
-        t0 = time.monotonic()
-        for msg in can.MessageSync(msgs, timestamps=True, gap=0.0001):
-            bus.send(msg)
-            late_ms.append((time.monotonic() - t0 - (msg.timestamp - msgs[0].timestamp)) * 1e3)
-    print(f"replay of {len(msgs)} frames: sender late by median "
-          f"{sorted(late_ms)[len(late_ms) // 2]:.1f} ms, max {max(late_ms):.1f} ms")
+    """python-can replays a log onto vcan0 with its original timing, silences kept whole
+    (vmutil.replay_can)."""
+    median, worst = replay_can(path, fd=fd)
+    print(f"replay of {path}: sender late by median {median:.1f} ms, max {worst:.1f} ms")
 
 
 def convert(log, fmt, tmp_path):
@@ -104,9 +97,8 @@ def check_live(objs, expect, counters, t_start_ns):
         assert len(rec) == sum(any(d > t for d in done) for t in stale)
         # exactly one stale event inside the silence (the longest gap between cycles)
         longest = max(zip(done, done[1:]), key=lambda p: p[1] - p[0])
-        # as delivered: the sender in this slow VM can run late into the silence and shorten
-        # it; as long as it is longer than the timeout (by the daemon's timestamps) it holds
-        # exactly one stale event
+        # as delivered, by the daemon's timestamps: the sender keeps the silence whole
+        # (vmutil.replay_can), so it is longer than the timeout and holds exactly one stale event
         print(f"{lamp}: the silence as delivered: {(longest[1] - longest[0]) / 1e6:.0f} ms of "
               f"{counters['silence_ms']}")
         assert (longest[1] - longest[0]) / 1e6 > TIMEOUT_MS

@@ -45,3 +45,36 @@ class Lines:
             raise AssertionError(f"{self.proc.args[0]} printed nothing for {timeout} s") from None
         assert line is not None, f"{self.proc.args[0]} exited ({self.proc.wait()}) early"
         return line if line == "ready" else self.parse(line)
+
+
+def replay_can(path, fd=False, channel="vcan0", long_gap_s=0.05):
+    """python-can sends a log onto a CAN interface with its original timing, but this slow VM
+    (TCG, on a machine that may be busy) can fall behind: a sender that catches up would eat
+    into the log's silences and a 300 ms silence could reach the daemon as 80 ms, which is no
+    silence at all. So every gap of at least long_gap_s in the log is kept whole, counted from
+    the frame actually sent before it; the shorter gaps follow the log's schedule as far as the
+    sender keeps up. The log is read first: parsing while sending cannot keep up here.
+    Returns how late the sender was (ms, median and max) against that schedule."""
+    import time
+
+    import can
+
+    msgs = list(can.LogReader(path))
+    late_ms = []
+    with can.Bus(interface="socketcan", channel=channel, fd=fd) as bus:
+        t_base = time.monotonic() - msgs[0].timestamp  # schedule: t_base + msg.timestamp
+        prev = None
+        for msg in msgs:
+            if prev is not None and msg.timestamp - prev.timestamp >= long_gap_s:
+                # re-anchor on the previous frame's real send time: the silence stays whole
+                t_base = max(t_base, t_sent - prev.timestamp)
+            due = t_base + msg.timestamp
+            now = time.monotonic()
+            if due > now:
+                time.sleep(due - now)
+            bus.send(msg)
+            t_sent = time.monotonic()
+            late_ms.append((t_sent - due) * 1e3)
+            prev = msg
+    late_ms.sort()
+    return late_ms[len(late_ms) // 2], late_ms[-1]
