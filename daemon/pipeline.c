@@ -24,7 +24,8 @@
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
 
 /* The render time histogram's bucket bounds, ms (le; +Inf implied). */
-static const double render_ms_bounds[] = { 1, 2, 5, 10, 20, 50, 100 };
+/* Prometheus base units: seconds (1, 2, 5, 10, 20, 50, 100 ms) */
+static const double render_s_bounds[] = { 0.001, 0.002, 0.005, 0.010, 0.020, 0.050, 0.100 };
 
 struct hl_pipeline {
 	struct hl_config cfg;
@@ -117,8 +118,8 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 		goto err;
 	}
 	p->view = rc;
-	rc = hl_prom_histogram_init(&p->c.render_ms, render_ms_bounds,
-				    (int)(sizeof(render_ms_bounds) / sizeof(render_ms_bounds[0])));
+	rc = hl_prom_histogram_init(&p->c.render_seconds, render_s_bounds,
+				    (int)(sizeof(render_s_bounds) / sizeof(render_s_bounds[0])));
 	assert(rc == 0);
 	hl_view_lux_defaults(&p->lux_opts);
 	hl_pipeline_set_failsafe(p, cfg->failsafe, failsafe_dims);
@@ -294,7 +295,7 @@ static void record_time(struct hl_pipeline *p, double ms, bool published, uint32
 	}
 	if (ms > p->c.render_ms_max)
 		p->c.render_ms_max = ms;
-	hl_prom_histogram_observe(&p->c.render_ms, ms);
+	hl_prom_histogram_observe(&p->c.render_seconds, ms / 1000.0);
 	if (published)
 		p->c.frames++;
 	else

@@ -46,7 +46,7 @@ struct hl_pipeline_counts {
 	uint64_t verdict_frames[HL_VERDICTS_MAX_SETS];
 	uint64_t verdict_failed_frames[HL_VERDICTS_MAX_SETS];
 	double verdict_ms_last, verdict_ms_max; /* the verdicts and road KPIs of one frame */
-	struct hl_prom_histogram render_ms; /* render time, ms (bounds: hl_pipeline_new) */
+	struct hl_prom_histogram render_seconds; /* render time, s (bounds: hl_pipeline_new) */
 };
 
 /*

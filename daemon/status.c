@@ -230,9 +230,9 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 		       "Frames slow stream clients skipped.");
 	hl_prom_counter(&p, "hdlamp_stream_frames_skipped_total", NULL, v.sc.frames_skipped);
 	if (s->pipe) {
-		hl_prom_family(&p, "hdlamp_render_ms", HL_PROM_HISTOGRAM,
-			       "Time to render a frame (ms).");
-		hl_prom_histogram(&p, "hdlamp_render_ms", NULL, &v.pc.render_ms);
+		hl_prom_family(&p, "hdlamp_render_seconds", HL_PROM_HISTOGRAM,
+			       "Time to render a frame (seconds).");
+		hl_prom_histogram(&p, "hdlamp_render_seconds", NULL, &v.pc.render_seconds);
 	}
 	if (s->verdicts && s->pipe && s->pool) {
 		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);

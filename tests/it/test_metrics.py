@@ -57,7 +57,9 @@ def test_metrics_parse_and_count_the_drive(hdlamp, tmp_path):
                           "--set", f"lamps.left={tmp_path}/hd84_left.lid.exr",
                           "--set", f"lamps.right={tmp_path}/hd84_right.lid.exr",
                           "--set", "render.size=160x90", "--set", "stream.tcp=",
-                          "--set", "http.listen=127.0.0.1:0", "--loop"],
+                          "--set", "http.listen=127.0.0.1:0", "--loop",
+                          # the verdict families too, for promtool's lint below
+                          "--set", "verdict.sets=unece-r149-01-passing-c,unece-r149-01-adb-glare"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     port = None
     while port is None:
@@ -78,13 +80,18 @@ def test_metrics_parse_and_count_the_drive(hdlamp, tmp_path):
         time.sleep(0.1)
     p.send_signal(15)
     assert p.wait(10) == 0
+    # Prometheus' own linter: names, units, types, help; any message is a failure
+    lint = subprocess.run(["promtool", "check", "metrics"], input=text, capture_output=True,
+                          text=True)
+    assert lint.returncode == 0 and not lint.stdout.strip() and "error" not in lint.stderr, \
+        lint.stdout + lint.stderr
     assert ctype.startswith("text/plain; version=0.0.4")
     fam = parse(text)
     for name in ("hdlamp_cycles_total", "hdlamp_crc_errors_total", "hdlamp_lost_cycles_total",
                  "hdlamp_incomplete_cycles_total", "hdlamp_ring_snapshots_total",
-                 "hdlamp_lamp_stale", "hdlamp_bus_state", "hdlamp_render_ms"):
+                 "hdlamp_lamp_stale", "hdlamp_bus_state", "hdlamp_render_seconds"):
         assert name in fam, name
-    assert fam["hdlamp_render_ms"]["type"] == "histogram"
+    assert fam["hdlamp_render_seconds"]["type"] == "histogram"
     crc = {l: v for _, l, v in fam["hdlamp_crc_errors_total"]["samples"]}
     # one CRC error per pass of the drive, on the left lamp
     assert crc['lamp="left"'] >= 1 and crc['lamp="right"'] == 0

@@ -182,7 +182,7 @@ static void pipeline_publishes_each_cycle_with_its_seqs_and_raw_values(void **st
 	assert_int_equal(pc.cycles_not_rendered[1], 0);
 	assert_int_equal(pc.failsafe_frames[0], 0);
 	assert_int_equal(pc.failsafe_frames[1], 0);
-	assert_int_equal(pc.render_ms.count, 3);
+	assert_int_equal(pc.render_seconds.count, 3);
 }
 
 /* A database whose signals have another factor and an offset: the frame still carries the

@@ -393,8 +393,8 @@ static void prom_writes_the_exact_text(void **state)
 			18446744073709551615ull);
 	hl_prom_counter(&p, "hdlamp_cycles_total", (const char *const[]){ "lamp", "right", NULL },
 			7);
-	hl_prom_family(&p, "hdlamp_render_ms", HL_PROM_GAUGE, "Last render time, ms.");
-	hl_prom_gauge(&p, "hdlamp_render_ms", NULL, 0.1);
+	hl_prom_family(&p, "hdlamp_render_seconds", HL_PROM_GAUGE, "Last render time, seconds.");
+	hl_prom_gauge(&p, "hdlamp_render_seconds", NULL, 0.1);
 	hl_prom_family(&p, "hdlamp_latency_ms", HL_PROM_HISTOGRAM, "CAN to frame.");
 	hl_prom_histogram(&p, "hdlamp_latency_ms", NULL, &h);
 	assert_int_equal(hl_prom_end(&p), (int)strlen(buf));
@@ -402,9 +402,9 @@ static void prom_writes_the_exact_text(void **state)
 				 "# TYPE hdlamp_cycles_total counter\n"
 				 "hdlamp_cycles_total{lamp=\"left\"} 18446744073709551615\n"
 				 "hdlamp_cycles_total{lamp=\"right\"} 7\n"
-				 "# HELP hdlamp_render_ms Last render time, ms.\n"
-				 "# TYPE hdlamp_render_ms gauge\n"
-				 "hdlamp_render_ms 0.1\n"
+				 "# HELP hdlamp_render_seconds Last render time, seconds.\n"
+				 "# TYPE hdlamp_render_seconds gauge\n"
+				 "hdlamp_render_seconds 0.1\n"
 				 "# HELP hdlamp_latency_ms CAN to frame.\n"
 				 "# TYPE hdlamp_latency_ms histogram\n"
 				 "hdlamp_latency_ms_bucket{le=\"1\"} 2\n"

@@ -111,7 +111,7 @@ static void status_metrics_are_prometheus_text(void **state)
 				    "hdlamp_ring_snapshots_total{fate=\"dropped\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_lamp_stale{lamp=\"right\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_link_up 0\n"));
-	assert_null(strstr(buf, "hdlamp_render_ms")); /* no renderer, no render times */
+	assert_null(strstr(buf, "hdlamp_render_seconds")); /* no renderer, no render times */
 	assert_int_equal(hl_status_metrics(st, buf, 100), -ENOBUFS);
 	hl_snapshot_free(s);
 	hl_status_free(st);
