@@ -35,13 +35,6 @@ struct hl_verdicts {
 	} modes[HL_VERDICTS_MAX_MODES];
 };
 
-static bool same_grid(const struct hl_lid_grid *a, const struct hl_lid_grid *b)
-{
-	return a->width == b->width && a->height == b->height && a->angles == b->angles &&
-	       a->h_first_deg == b->h_first_deg && a->h_last_deg == b->h_last_deg &&
-	       a->v_first_deg == b->v_first_deg && a->v_last_deg == b->v_last_deg;
-}
-
 static bool same_aim(const struct hl_lamp_pose *a, const struct hl_lamp_pose *b)
 {
 	return a->pitch_deg == b->pitch_deg && a->yaw_deg == b->yaw_deg;
@@ -90,7 +83,7 @@ static int add_set(struct hl_verdicts *v, const struct hl_config *cfg, int i,
 				 id);
 			return -EINVAL;
 		}
-		if (!same_grid(grids[0], grids[1]) || !same_aim(&poses[0], &poses[1])) {
+		if (!hl_lid_grid_equal(grids[0], grids[1]) || !same_aim(&poses[0], &poses[1])) {
 			snprintf(err, err_size,
 				 "verdict.sets: set '%s' applies to half the sum of the pair; the "
 				 "lamps '%s' and '%s' need the same LID grid and the same aim",
@@ -109,7 +102,7 @@ static int add_set(struct hl_verdicts *v, const struct hl_config *cfg, int i,
 		for (int l = 0; l < v->n_lamps && rc == 0; l++) {
 			s->part[l] = (struct hl_verdicts_part){ l, v->n_results };
 			v->n_results += s->reg->n_requirements;
-			if (l > 0 && same_grid(grids[0], grids[l]) &&
+			if (l > 0 && hl_lid_grid_equal(grids[0], grids[l]) &&
 			    same_aim(&poses[0], &poses[l])) {
 				s->plan[l] =
 					s->plan[0]; /* the same plan: one lamp's worth of memory */

@@ -196,6 +196,13 @@ float hl_lid_grid_v_deg(const struct hl_lid_grid *g, int row)
 	return g->v_last_deg - (float)row * (g->v_last_deg - g->v_first_deg) / (g->height - 1);
 }
 
+bool hl_lid_grid_equal(const struct hl_lid_grid *a, const struct hl_lid_grid *b)
+{
+	return a->width == b->width && a->height == b->height && a->angles == b->angles &&
+	       a->h_first_deg == b->h_first_deg && a->h_last_deg == b->h_last_deg &&
+	       a->v_first_deg == b->v_first_deg && a->v_last_deg == b->v_last_deg;
+}
+
 float hl_lid_grid_lookup(const struct hl_lid_grid *g, const float *dense, float h_deg, float v_deg)
 {
 	/* Continuous sample coordinates: column 0 at h_first, row 0 at v_last. */

@@ -92,6 +92,9 @@ float hl_lid_grid_v_deg(const struct hl_lid_grid *grid, int row);
 float hl_lid_grid_lookup(const struct hl_lid_grid *grid, const float *dense, float h_deg,
 			 float v_deg);
 
+/* True when a and b sample the same directions: size, angle system and extents all equal. */
+bool hl_lid_grid_equal(const struct hl_lid_grid *a, const struct hl_lid_grid *b);
+
 /*
  * Files (OpenEXR, docs/lid-files.md). Reading accepts FLOAT or HALF channels and validates
  * everything; writing stores FLOAT channels, ZIP compressed.

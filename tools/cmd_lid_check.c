@@ -252,13 +252,6 @@ static int load_lamp(const char *path, const char *preset, int side, struct hl_l
 	return hl_cli_lid_distribution(*ret_lid, preset, side, ret_dense);
 }
 
-static bool same_grid(const struct hl_lid_grid *a, const struct hl_lid_grid *b)
-{
-	return a->width == b->width && a->height == b->height && a->angles == b->angles &&
-	       a->h_first_deg == b->h_first_deg && a->h_last_deg == b->h_last_deg &&
-	       a->v_first_deg == b->v_first_deg && a->v_last_deg == b->v_last_deg;
-}
-
 int hl_cmd_lid_check(int argc, char **argv)
 {
 	enum { OPT_REG = 256, OPT_REGS, OPT_OTHER, OPT_TRAFFIC, OPT_AIM, OPT_JSON, OPT_PLOT };
@@ -388,7 +381,7 @@ int hl_cmd_lid_check(int argc, char **argv)
 	if (reg->applies == HL_REG_PAIR_HALF) {
 		if (load_lamp(other, preset, side < 0 ? -1 : !side, &lid2, &dense2) < 0)
 			goto out;
-		if (!same_grid(hl_lid_grid(lid), hl_lid_grid(lid2))) {
+		if (!hl_lid_grid_equal(hl_lid_grid(lid), hl_lid_grid(lid2))) {
 			fprintf(stderr, "hdlamp lid check: '%s' and '%s' are on different grids\n",
 				file, other);
 			goto out;

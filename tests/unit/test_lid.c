@@ -38,6 +38,43 @@ static void lid_grid_lookup_is_bilinear(void **state)
 			   1e-5);
 }
 
+/* Equal grids sample the same directions: every field counts. */
+static void lid_grid_equal_compares_every_field(void **state)
+{
+	struct hl_lid_grid g = grid;
+
+	(void)state;
+	assert_true(hl_lid_grid_equal(&grid, &g));
+	for (int field = 0; field < 7; field++) {
+		g = grid;
+		switch (field) {
+		case 0:
+			g.width++;
+			break;
+		case 1:
+			g.height++;
+			break;
+		case 2:
+			g.angles = HL_ANGLES_B;
+			break;
+		case 3:
+			g.h_first_deg -= 0.5f;
+			break;
+		case 4:
+			g.h_last_deg += 0.5f;
+			break;
+		case 5:
+			g.v_first_deg -= 0.5f;
+			break;
+		default:
+			g.v_last_deg += 0.5f;
+			break;
+		}
+		assert_false(hl_lid_grid_equal(&grid, &g));
+		assert_false(hl_lid_grid_equal(&g, &grid));
+	}
+}
+
 static void lid_grid_lookup_is_zero_outside(void **state)
 {
 	(void)state;
@@ -118,6 +155,7 @@ int main(void)
 		cmocka_unit_test(lid_grid_samples_at_texel_centres),
 		cmocka_unit_test(lid_grid_lookup_is_bilinear),
 		cmocka_unit_test(lid_grid_lookup_is_zero_outside),
+		cmocka_unit_test(lid_grid_equal_compares_every_field),
 		cmocka_unit_test(lid_rejects_bad_grids_and_values),
 		cmocka_unit_test(angles_type_a_and_b_differ_as_design_says),
 	};
