@@ -263,7 +263,7 @@ static void can_input_replay_pushes_exact_cycles_and_stale_events(void **state)
 		snprintf(want, sizeof(want),
 			 "\"frames\":{\"decoded\":%d,\"unknown_id\":1,\"short\":0,\"other\":0,"
 			 "\"error_frames\":0},\"log\":{\"lines\":%d,\"frames\":%d,\"malformed\":1,"
-			 "\"passes\":1}",
+			 "\"backwards\":0,\"passes\":1}",
 			 frames, frames + 2, frames + 1);
 		assert_string_equal(buf, want);
 		free(buf);
