@@ -202,10 +202,11 @@ static void report_line(struct hl_can_input *in, int rc, const struct hl_candump
 static void run_replay(struct hl_can_input *in)
 {
 	const int64_t base_ns = hl_monotonic_ns();
-	uint64_t n_frames = 0;
+	uint64_t n_frames = 0, pass = 1;
 
 	while (!atomic_load(&in->stop)) {
 		struct hl_candump_log_error err;
+		struct hl_candump_log_stats st;
 		struct hl_candump_frame f;
 		int64_t due_ns, d;
 		int rc = hl_candump_log_next(in->log, &f, &due_ns, &err);
@@ -219,6 +220,12 @@ static void run_replay(struct hl_can_input *in)
 				fprintf(in->cfg.log, "hdlampd: '%s': %s\n", in->cfg.replay,
 					strerror(-rc));
 			break;
+		}
+		hl_candump_log_stats(in->log, &st);
+		if (st.passes != pass) {
+			/* the log starts again, and so do its alive counters: no fault */
+			pass = st.passes;
+			hl_assembler_restart(in->a);
 		}
 		/* lamps whose timeout falls before this frame go stale at their deadline */
 		while ((d = hl_assembler_next_deadline(in->a)) <= due_ns) {

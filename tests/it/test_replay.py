@@ -123,6 +123,29 @@ def test_usage_and_input_errors(tmp_path):
     assert "HdlLamp \"right\" is not a configured lamp" in r.stderr
 
 
+@pytest.mark.parametrize("dbc", ["hd84.dbc", "hd84_fd.dbc"])
+def test_loop_counts_only_the_faults_the_log_injects(hdlamp, tmp_path, dbc):
+    """--loop-passes 3: the log's alive counters start again at every pass, which is no fault;
+    each fault counter is exactly three times the single pass's, and so are the cycles."""
+    log, expect, counters = generate(hdlamp, dbc_path(dbc), tmp_path)
+    r = hdlampd("--replay", log, "--fast", "--loop-passes", "3", "--dbc", dbc_path(dbc),
+                "--no-render", "--print-cycles")
+    assert r.returncode == 0, r.stderr
+    cycles, events, summary = parse_output(r.stdout)
+    assert summary["log"]["passes"] == 3
+    for lamp in ("left", "right"):
+        want = {key: 3 * value for key, value in counters[lamp].items()}
+        have = {key: summary["lamps"][lamp][key] for key in want}
+        assert have == want, lamp
+        assert summary["lamps"][lamp]["repeated_frames"] == 0
+        got = [(c, d) for c, d, _ in cycles[lamp]]
+        assert got == 3 * expect[lamp]
+        assert [o["seq"] for _, _, o in cycles[lamp]] == list(range(1, len(got) + 1))
+    # the silence of every pass: each lamp stale once and recovered once per pass
+    assert [(e["event"], e["lamp"]) for e in events] == 3 * [
+        ("stale", "left"), ("stale", "right"), ("recovered", "left"), ("recovered", "right")]
+
+
 def test_malformed_line_numbers_are_the_files_in_every_pass(hdlamp, tmp_path):
     log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), tmp_path, phase=2)
     lines = open(log).read().splitlines()
