@@ -49,7 +49,7 @@ struct key {
 	const char *section, *name;
 	enum kind kind;
 	size_t offset;
-	double min, max; /* INT, DOUBLE, PAIR */
+	double min, max; /* INT, DOUBLE, PAIR; PATH: max > 0 is its longest length */
 	const char *help;
 	const char *choices; /* ENUM: "a|b|c" */
 };
@@ -91,7 +91,7 @@ static const struct key keys[] = {
 	  "rate 0: wait this long at most for the other lamp's cycle, one frame for both", NULL },
 	{ "stream", "tcp", ADDRESS, F(stream_tcp), 0, 0,
 	  "HOST:PORT of the frame stream (port 0: any free one), empty = off", NULL },
-	{ "stream", "unix", PATH, F(stream_unix), 0, 0,
+	{ "stream", "unix", PATH, F(stream_unix), 0, 107 /* bytes: sun_path holds 108 with NUL */,
 	  "Unix socket of the frame stream, empty = off", NULL },
 	{ "stream", "raw", BOOL, F(stream_raw), 0, 0,
 	  "pixels only, no header (for ffmpeg -f rawvideo)", NULL },
@@ -395,6 +395,11 @@ static int set_value(struct hl_config *cfg, const struct key *k, const char *val
 				   HL_CONFIG_NAME - 1);
 		return 0;
 	case PATH:
+		if (k->max > 0 && strlen(value) > k->max)
+			return bad(
+				err, origin, line, k,
+				"'%s': path too long (at most %.0f bytes: a Unix socket's address)",
+				value, k->max);
 		if (copy_string(at, HL_CONFIG_PATH, value) < 0)
 			return bad(err, origin, line, k, "path too long (at most %d bytes)",
 				   HL_CONFIG_PATH - 1);

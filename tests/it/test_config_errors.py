@@ -63,6 +63,8 @@ BAD = [
      "lamps.presets)"),
     ("verdict.traffic=centre", "'centre': expected right or left"),
     ("road.levels=1", "'1': expected two numbers 0.01..1000, as A,B"),
+    (f"stream.unix=/tmp/{'x' * 103}.sock", f"'/tmp/{'x' * 103}.sock': path too long (at most "
+     "107 bytes: a Unix socket's address)"),
 ]
 
 
