@@ -57,6 +57,8 @@ static int scan_lines(FILE *f, struct load_ctx *c)
 		size_t n;
 
 		line++;
+		if (line == 1 && strncmp(p, "\xEF\xBB\xBF", 3) == 0)
+			p += 3; /* a UTF-8 byte order mark, which inih skips too */
 		while (*p == ' ' || *p == '\t')
 			p++;
 		if (*p == ';' || *p == '#' || *p == '\n' || *p == '\r' || !*p)
@@ -159,7 +161,7 @@ int hl_config_load(struct hl_config *cfg, const char *path, struct hl_config_err
 	}
 	line = ini_parse_file(f, on_pair, &c);
 	/* the first fault is either the refused key (err says why) or a syntax error before it */
-	if (c.rc < 0 && c.bad_line == line) {
+	if (c.rc < 0 && (c.bad_line == line || c.bad_line == 0)) {
 		rc = -EINVAL;
 	} else if (line != 0 || c.rc < 0) {
 		snprintf(c.err->msg, sizeof(c.err->msg),

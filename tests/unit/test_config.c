@@ -408,6 +408,13 @@ static void config_duplicate_key_warns_with_both_lines(void **state)
 	write_file(path, sizeof(path), "dup.conf", "[can]\ntimeout_ms = 50\n");
 	assert_int_equal(hl_config_load(&c, path, &err), 0);
 	assert_int_equal(err.n_warnings, 0);
+	/* a file saved with a UTF-8 byte order mark: inih skips it, and so do the line numbers */
+	write_file(path, sizeof(path), "dup.conf", "\xEF\xBB\xBF[render]\nview = lux\nview = 3d\n");
+	assert_int_equal(hl_config_load(&c, path, &err), -EINVAL);
+	snprintf(want, sizeof(want),
+		 "'%s':3: key 'render.view': '3d': expected display, lux or hdr", path);
+	assert_string_equal(err.msg, want);
+	assert_int_equal(err.n_warnings, 1);
 	unlink(path);
 }
 
