@@ -198,8 +198,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 	}
 	/* can.lamps' syntax is checked as it is set: 1..HL_ASM_MAX_LAMPS names */
 	snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
-	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save); tok;
-	     tok = strtok_r(NULL, ",", &save))
+	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save);
+	     tok && o->n_lamps < HL_ASM_MAX_LAMPS; tok = strtok_r(NULL, ",", &save))
 		o->lamp_names[o->n_lamps++] = tok;
 	/* the files the keys name, before anything starts */
 	if (hl_config_check_files(&o->cfg, !o->no_render, &err) < 0) {
