@@ -332,6 +332,20 @@ int hl_assembler_new(const struct hl_dbc *db, const char *const *lamp_names, int
 	return 0;
 }
 
+void hl_assembler_restart(struct hl_assembler *a)
+{
+	for (int l = 0; l < a->n_lamps; l++) {
+		struct lamp *lamp = &a->lamps[l];
+
+		if (lamp->parts_seen)
+			lamp->c.incomplete++;
+		lamp->parts_seen = 0;
+		lamp->cur_counter = -1;
+		lamp->last_counter = -1;
+		lamp->abandoned = 0;
+	}
+}
+
 uint32_t hl_assembler_expire(struct hl_assembler *a, int64_t now_ns)
 {
 	uint32_t mask = 0;

@@ -100,6 +100,15 @@ void hl_assembler_free(struct hl_assembler *a);
 int hl_assembler_feed(struct hl_assembler *a, const struct canfd_frame *f, int64_t t_rx_ns,
 		      int64_t now_ns, struct hl_cycle *ret_cycle, struct hl_asm_events *ret_events);
 
+/*
+ * Forgets what the alive counters led the assembler to expect: the next frame of every lamp
+ * starts a cycle as the very first one did, so no lost cycle or repeated frame is counted
+ * against the previous counter. For a replayed log starting its next pass (its counters begin
+ * again). A cycle still being assembled is abandoned and counted as incomplete. Timeouts, stale
+ * states and counters are kept.
+ */
+void hl_assembler_restart(struct hl_assembler *a);
+
 /* Marks lamps stale whose timeout passed by now_ns; returns the lamps that just became stale. */
 uint32_t hl_assembler_expire(struct hl_assembler *a, int64_t now_ns);
 /* The earliest time a lamp that is not stale would become stale. */

@@ -15,6 +15,7 @@
 
 #define POLL_MAX_MS 100 /* longest wait, so a stop request is seen promptly */
 #define MALFORMED_LOGGED 20 /* malformed log lines reported one by one; the rest counted */
+#define BACKWARDS_LOGGED 20 /* the same for timestamps going backwards */
 #define READ_BATCH 64
 
 struct hl_can_input {
@@ -48,7 +49,8 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	pthread_mutex_init(&in->status_lock, NULL);
 	rc = hl_snapshot_new(ring, &in->snap);
 	if (rc == 0 && cfg->replay)
-		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop, &in->log);
+		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop ? cfg->replay_passes : 1,
+					 &in->log);
 	if (rc == 0 && cfg->iface) {
 		/* every lamp message: a filter list cut short would lose its frames unnoticed */
 		uint32_t ids[HL_ASM_MAX_IDS];
@@ -180,10 +182,27 @@ static void feed(struct hl_can_input *in, const struct canfd_frame *f, int64_t t
 		take_cycle(in, &c, &ev, now_ns);
 }
 
+/* A malformed line (rc -EBADMSG) or a timestamp going backwards (rc 2): the first ones logged. */
+static void report_line(struct hl_can_input *in, int rc, const struct hl_candump_log_error *err)
+{
+	struct hl_candump_log_stats st;
+	const bool bad = rc == -EBADMSG;
+	uint64_t n;
+
+	hl_candump_log_stats(in->log, &st);
+	n = bad ? st.malformed : st.backwards;
+	if (n <= (bad ? MALFORMED_LOGGED : BACKWARDS_LOGGED))
+		fprintf(in->cfg.log, "hdlampd: '%s':%ld:%d: %s%s%s\n", in->cfg.replay, err->line,
+			err->column, bad ? "malformed candump line: " : "", err->msg,
+			n == (bad ? MALFORMED_LOGGED : BACKWARDS_LOGGED) ?
+				" (further ones only counted)" :
+				"");
+}
+
 static void run_replay(struct hl_can_input *in)
 {
 	const int64_t base_ns = hl_monotonic_ns();
-	uint64_t n_frames = 0;
+	uint64_t n_frames = 0, pass = 1;
 
 	while (!atomic_load(&in->stop)) {
 		struct hl_candump_log_error err;
@@ -192,22 +211,21 @@ static void run_replay(struct hl_can_input *in)
 		int64_t due_ns, d;
 		int rc = hl_candump_log_next(in->log, &f, &due_ns, &err);
 
-		if (rc == -EBADMSG) {
-			hl_candump_log_stats(in->log, &st);
-			if (st.malformed <= MALFORMED_LOGGED)
-				fprintf(in->cfg.log,
-					"hdlampd: '%s':%ld:%d: malformed candump line: %s%s\n",
-					in->cfg.replay, err.line, err.column, err.msg,
-					st.malformed == MALFORMED_LOGGED ?
-						" (further ones only counted)" :
-						"");
+		if (rc == -EBADMSG || rc == 2)
+			report_line(in, rc, &err);
+		if (rc == -EBADMSG)
 			continue;
-		}
 		if (rc <= 0) {
 			if (rc < 0)
 				fprintf(in->cfg.log, "hdlampd: '%s': %s\n", in->cfg.replay,
 					strerror(-rc));
 			break;
+		}
+		hl_candump_log_stats(in->log, &st);
+		if (st.passes != pass) {
+			/* the log starts again, and so do its alive counters: no fault */
+			pass = st.passes;
+			hl_assembler_restart(in->a);
 		}
 		/* lamps whose timeout falls before this frame go stale at their deadline */
 		while ((d = hl_assembler_next_deadline(in->a)) <= due_ns) {
@@ -352,8 +370,10 @@ void hl_can_input_report(struct hl_can_input *in, FILE *f)
 	if (!st.is_socket)
 		fprintf(f,
 			",\"log\":{\"lines\":%" PRIu64 ",\"frames\":%" PRIu64
-			",\"malformed\":%" PRIu64 ",\"passes\":%" PRIu64 "}",
-			st.log.lines, st.log.frames, st.log.malformed, st.log.passes);
+			",\"malformed\":%" PRIu64 ",\"backwards\":%" PRIu64 ",\"passes\":%" PRIu64
+			"}",
+			st.log.lines, st.log.frames, st.log.malformed, st.log.backwards,
+			st.log.passes);
 	else
 		fprintf(f,
 			",\"socket\":{\"iface\":\"%s\",\"fd\":%s,\"bus\":\"%s\",\"frames\":%" PRIu64

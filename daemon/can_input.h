@@ -36,7 +36,8 @@ struct hl_can_input_config {
 	const char *iface; /* either this ... */
 	const char *replay; /* ... or a candump log ("-" for stdin) */
 	bool replay_fast; /* as fast as possible instead of the log's timing */
-	bool replay_loop;
+	bool replay_loop; /* again and again ... */
+	uint64_t replay_passes; /* ... until this many passes, 0 = endlessly */
 	FILE *log; /* where the thread logs rare events (malformed log lines), e.g. stderr */
 };
 

@@ -3,105 +3,132 @@
 
 #include <ctype.h>
 #include <errno.h>
-#include <ini.h>
+#include <stdarg.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include "can/assembler.h"
+#include "can/candump_log.h"
+#include "daemon/http.h"
 #include "lamp/regulation.h"
 
+/*
+ * How a value is read and checked: every kind checks the whole syntax and range of its value
+ * (files are checked later, in hl_config_check_files, once every override is in).
+ */
 enum kind {
-	STRING,
+	STRING, /* free text: GPIO line names or offsets */
 	PATH,
 	BOOL,
-	INT,
-	DOUBLE,
+	INT, /* min..max */
+	DOUBLE, /* min..max */
 	SIZE, /* WxH into width, height */
 	FAILSAFE,
-	BACKEND,
-	EDGE,
+	ENUM, /* one of choices ("a|b|c") */
+	ADDRESS, /* HOST:PORT as hl_http_parse_listen takes it, or empty (off) */
+	IFACE, /* a network interface name */
+	LAMPS, /* lamp names, comma separated, 1..HL_ASM_MAX_LAMPS */
 	SETS, /* comma-separated set ids into verdict_sets, n_verdict_sets */
 	TRAFFIC, /* right | left into traffic_left */
 	PAIR, /* two positive numbers "a,b" into a double[2] (min, max bound each) */
 	MODES, /* MODE:ID+ID,MODE:ID,... (checked against the DBC and the sets at start) */
 };
 
+/*
+ * The keys. Adding one: a field in struct hl_config (config.h), its default in
+ * hl_config_defaults, a line here with a kind that checks it (a new kind: its case in
+ * set_value and print_value), and its line in docs/daemon.md, hdlampd.conf(5) and
+ * systemd/hdlampd.conf (test_config_example checks the last).
+ */
 struct key {
 	const char *section, *name;
 	enum kind kind;
 	size_t offset;
-	double min, max; /* INT, DOUBLE */
+	double min, max; /* INT, DOUBLE, PAIR; PATH: max > 0 is its longest length */
 	const char *help;
+	const char *choices; /* ENUM: "a|b|c" */
 };
 
 #define F(field) offsetof(struct hl_config, field)
 
 static const struct key keys[] = {
-	{ "can", "interface", STRING, F(interface), 0, 0, "SocketCAN interface (or replay)" },
-	{ "can", "replay", PATH, F(replay), 0, 0, "candump -L log to replay (or interface)" },
-	{ "can", "replay_fast", BOOL, F(replay_fast), 0, 0,
-	  "replay as fast as the output keeps up" },
-	{ "can", "replay_loop", BOOL, F(replay_loop), 0, 0, "replay the log over and over" },
-	{ "can", "dbc", PATH, F(dbc), 0, 0, "the CAN database" },
-	{ "can", "lamps", STRING, F(lamps), 0, 0,
-	  "lamp names as the DBC's HdlLamp, comma separated" },
+	{ "can", "interface", IFACE, F(interface), 0, 0, "SocketCAN interface (or replay)", NULL },
+	{ "can", "replay", PATH, F(replay), 0, 0, "candump -L log to replay (or interface)", NULL },
+	{ "can", "replay_fast", BOOL, F(replay_fast), 0, 0, "replay as fast as the output keeps up",
+	  NULL },
+	{ "can", "replay_loop", BOOL, F(replay_loop), 0, 0, "replay the log over and over", NULL },
+	{ "can", "replay_passes", INT, F(replay_passes), 0, 1000000,
+	  "with replay_loop: stop after this many passes; 0 = never", NULL },
+	{ "can", "dbc", PATH, F(dbc), 0, 0, "the CAN database", NULL },
+	{ "can", "lamps", LAMPS, F(lamps), 0, 0, "lamp names as the DBC's HdlLamp, comma separated",
+	  NULL },
 	{ "can", "timeout_ms", INT, F(timeout_ms), 1, 60000,
-	  "a lamp with no complete cycle this long is stale" },
+	  "a lamp with no complete cycle this long is stale", NULL },
 	{ "dbc", "strict", BOOL, F(dbc_strict), 0, 0,
-	  "refuse a DBC with irregularities instead of loading it with warnings" },
-	{ "lamps", "left", PATH, F(lid_left), 0, 0, "the left lamp's LID file" },
-	{ "lamps", "right", PATH, F(lid_right), 0, 0, "the right lamp's LID file" },
-	{ "lamps", "presets", PATH, F(presets), 0, 0, "directory of NAME.json presets" },
+	  "refuse a DBC with irregularities instead of loading it with warnings", NULL },
+	{ "lamps", "left", PATH, F(lid_left), 0, 0, "the left lamp's LID file", NULL },
+	{ "lamps", "right", PATH, F(lid_right), 0, 0, "the right lamp's LID file", NULL },
+	{ "lamps", "presets", PATH, F(presets), 0, 0, "directory of NAME.json presets", NULL },
 	{ "lamps", "failsafe", FAILSAFE, F(failsafe), 0, 0,
-	  "hold | dark | preset:NAME, while a lamp is stale" },
-	{ "render", "scene", STRING, F(scene), 0, 0, "sphere | wall | road | bird" },
-	{ "render", "view", STRING, F(view), 0, 0, "display | lux | hdr" },
-	{ "render", "size", SIZE, F(width), 0, 0, "WxH pixels" },
-	{ "render", "exposure_ev", DOUBLE, F(exposure_ev), -20, 20, "display view exposure" },
-	{ "render", "combine", BACKEND, F(combine), 0, 0, "auto | cpu | gles" },
-	{ "render", "headlight", BACKEND, F(headlight), 0, 0, "auto | cpu | gles" },
+	  "hold | dark | preset:NAME, while a lamp is stale", NULL },
+	{ "render", "scene", ENUM, F(scene), 0, 0, "sphere | wall | road | bird | bounce",
+	  "sphere|wall|road|bird|bounce" },
+	{ "render", "view", ENUM, F(view), 0, 0, "display | lux | hdr", "display|lux|hdr" },
+	{ "render", "size", SIZE, F(width), 0, 0, "WxH pixels", NULL },
+	{ "render", "exposure_ev", DOUBLE, F(exposure_ev), -20, 20, "display view exposure", NULL },
+	{ "render", "combine", ENUM, F(combine), 0, 0, "auto | cpu | gles", "auto|cpu|gles" },
+	{ "render", "headlight", ENUM, F(headlight), 0, 0, "auto | cpu | gles", "auto|cpu|gles" },
 	{ "render", "threads", INT, F(render_threads), 0, 16,
-	  "threads lighting a frame (render thread + helpers); 0 = one per CPU" },
+	  "threads lighting a frame (render thread + helpers); 0 = one per CPU", NULL },
 	{ "render", "rate_hz", DOUBLE, F(rate_hz), 0, 1000,
-	  "fixed output rate; 0 = on every new cycle" },
+	  "fixed output rate; 0 = on every new cycle", NULL },
 	{ "render", "coalesce_ms", DOUBLE, F(coalesce_ms), 0, 20,
-	  "rate 0: wait this long at most for the other lamp's cycle, one frame for both" },
-	{ "stream", "tcp", STRING, F(stream_tcp), 0, 0,
-	  "host:port of the frame stream, empty = off" },
-	{ "stream", "unix", PATH, F(stream_unix), 0, 0,
-	  "Unix socket of the frame stream, empty = off" },
+	  "rate 0: wait this long at most for the other lamp's cycle, one frame for both", NULL },
+	{ "stream", "tcp", ADDRESS, F(stream_tcp), 0, 0,
+	  "HOST:PORT of the frame stream (port 0: any free one), empty = off", NULL },
+	{ "stream", "unix", PATH, F(stream_unix), 0, 107 /* bytes: sun_path holds 108 with NUL */,
+	  "Unix socket of the frame stream, empty = off", NULL },
 	{ "stream", "raw", BOOL, F(stream_raw), 0, 0,
-	  "pixels only, no header (for ffmpeg -f rawvideo)" },
-	{ "stream", "max_clients", INT, F(stream_max_clients), 1, 64, "clients at once" },
-	{ "http", "listen", STRING, F(http_listen), 0, 0,
-	  "host:port of the HTTP live view, empty = off" },
-	{ "http", "capture", BOOL, F(http_capture), 0, 0, "allow POST /capture" },
-	{ "capture", "dir", PATH, F(capture_dir), 0, 0, "where captures are written" },
-	{ "gpio", "chip", PATH, F(gpio_chip), 0, 0, "GPIO chip name or path, empty = no GPIO" },
-	{ "gpio", "strobe", STRING, F(gpio_strobe), 0, 0,
-	  "output line toggled per published frame" },
+	  "pixels only, no header (for ffmpeg -f rawvideo)", NULL },
+	{ "stream", "max_clients", INT, F(stream_max_clients), 1, 64, "clients at once", NULL },
+	{ "http", "listen", ADDRESS, F(http_listen), 0, 0,
+	  "HOST:PORT of the HTTP live view (port 0: any free one), empty = off", NULL },
+	{ "http", "capture", BOOL, F(http_capture), 0, 0, "allow POST /capture", NULL },
+	{ "capture", "dir", PATH, F(capture_dir), 0, 0, "where captures are written", NULL },
+	{ "gpio", "chip", PATH, F(gpio_chip), 0, 0, "GPIO chip name or path, empty = no GPIO",
+	  NULL },
+	{ "gpio", "strobe", STRING, F(gpio_strobe), 0, 0, "output line toggled per published frame",
+	  NULL },
 	{ "gpio", "trigger", STRING, F(gpio_trigger), 0, 0,
-	  "input line whose edge writes a capture" },
-	{ "gpio", "trigger_edge", EDGE, F(gpio_trigger_edge), 0, 0, "rising | falling | both" },
+	  "input line whose edge writes a capture", NULL },
+	{ "gpio", "trigger_edge", ENUM, F(gpio_trigger_edge), 0, 0, "rising | falling | both",
+	  "rising|falling|both" },
 	{ "gpio", "ecu_enable", STRING, F(gpio_ecu_enable), 0, 0,
-	  "output line held active while running" },
+	  "output line held active while running", NULL },
 	{ "verdict", "sets", SETS, F(verdict_sets), 0, 0,
-	  "regulation set ids checked on every frame, comma separated; empty = none" },
+	  "regulation set ids checked on every frame, comma separated; empty = none", NULL },
 	{ "verdict", "regulations", PATH, F(regulations), 0, 0,
-	  "directory of the regulation sets (ID.json)" },
+	  "directory of the regulation sets (ID.json)", NULL },
 	{ "verdict", "traffic", TRAFFIC, F(traffic_left), 0, 0,
-	  "right | left: left-hand traffic mirrors the sets' H" },
+	  "right | left: left-hand traffic mirrors the sets' H", NULL },
 	{ "verdict", "modes", MODES, F(verdict_modes), 0, 0,
 	  "MODE:ID+ID,...: the sets evaluated in each beam mode (the DBC's HdlBeamMode signal's "
-	  "VAL_ names); empty = every set on every frame" },
+	  "VAL_ names); empty = every set on every frame",
+	  NULL },
 	{ "road", "levels", PAIR, F(road_levels_lx), 0.01, 1000,
-	  "illuminance levels (lx) of the road ranges, two, comma separated" },
+	  "illuminance levels (lx) of the road ranges, two, comma separated", NULL },
 	{ "road", "width_at", PAIR, F(road_width_at_m), 1, 300,
-	  "distances (m) at which the width of the first level's area is taken, two" },
+	  "distances (m) at which the width of the first level's area is taken, two", NULL },
 };
+
+#define N_KEYS (sizeof(keys) / sizeof(keys[0]))
+
+_Static_assert(N_KEYS <= HL_CONFIG_MAX_KEYS, "raise HL_CONFIG_MAX_KEYS");
 
 void hl_config_defaults(struct hl_config *c)
 {
@@ -221,17 +248,31 @@ static int parse_sets(struct hl_config *cfg, const char *value, char *what, size
 	return 0;
 }
 
-static int bad(struct hl_config_error *err, const char *origin, int line, const char *section,
-	       const char *key, const char *what)
+static int bad(struct hl_config_error *err, const char *origin, int line, const struct key *k,
+	       const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+
+/* "'FILE':LINE: key 'S.K': what", "ORIGIN: key 'S.K': what" or, for a default value,
+ * "key 'S.K' (default): what"; -EINVAL. */
+static int bad(struct hl_config_error *err, const char *origin, int line, const struct key *k,
+	       const char *fmt, ...)
 {
-	if (err) {
-		if (line > 0)
-			snprintf(err->msg, sizeof(err->msg), "'%s':%d: key '%s.%s': %s", origin,
-				 line, section, key, what);
-		else
-			snprintf(err->msg, sizeof(err->msg), "%s: key '%s.%s': %s", origin, section,
-				 key, what);
-	}
+	char what[400];
+	va_list ap;
+
+	if (!err)
+		return -EINVAL;
+	va_start(ap, fmt);
+	vsnprintf(what, sizeof(what), fmt, ap);
+	va_end(ap);
+	if (line > 0)
+		snprintf(err->msg, sizeof(err->msg), "'%s':%d: key '%s.%s': %s", origin, line,
+			 k->section, k->name, what);
+	else if (origin)
+		snprintf(err->msg, sizeof(err->msg), "%s: key '%s.%s': %s", origin, k->section,
+			 k->name, what);
+	else
+		snprintf(err->msg, sizeof(err->msg), "key '%s.%s' (default): %s", k->section,
+			 k->name, what);
 	return -EINVAL;
 }
 
@@ -243,38 +284,153 @@ static int copy_string(char *dst, size_t size, const char *v)
 	return 0;
 }
 
-int hl_config_set(struct hl_config *cfg, const char *section, const char *name, const char *value,
-		  const char *origin, int line, struct hl_config_error *err)
+/* choices "a|b|c" holds v as a whole word. */
+static bool is_choice(const char *choices, const char *v)
 {
-	const struct key *k = NULL;
-	char *at, *end, what[256];
+	const size_t n = strlen(v);
 
-	for (size_t i = 0; i < sizeof(keys) / sizeof(keys[0]); i++)
-		if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
-			k = &keys[i];
-	if (!k)
-		return bad(err, origin, line, section, name,
-			   "unknown key (see hdlampd --help-config)");
-	at = (char *)cfg + k->offset;
+	for (const char *c = choices; n && c; c = strchr(c, '|') ? strchr(c, '|') + 1 : NULL)
+		if (strncmp(c, v, n) == 0 && (c[n] == '|' || c[n] == '\0'))
+			return true;
+	return false;
+}
+
+/* "a|b|c" as "a, b or c". */
+static void choices_text(const char *choices, char *buf, size_t size)
+{
+	size_t o = 0;
+
+	for (const char *c = choices; *c && o + 5 < size; c++) {
+		if (*c != '|') {
+			buf[o++] = *c;
+		} else if (strchr(c + 1, '|')) {
+			o += (size_t)snprintf(buf + o, size - o, ", ");
+		} else {
+			o += (size_t)snprintf(buf + o, size - o, " or ");
+		}
+		if (o >= size)
+			o = size - 1;
+	}
+	buf[o] = '\0';
+}
+
+/* HOST:PORT (or empty: off); 0 or -EINVAL with what filled. */
+static int check_address(const char *v, char *what, size_t size)
+{
+	const char *colon = strrchr(v, ':');
+	struct sockaddr_storage ss;
+	char *end;
+	long port;
+
+	if (!*v)
+		return 0;
+	if (!colon || colon == v) {
+		snprintf(what, size,
+			 "'%s': expected HOST:PORT (an IPv4 address, [IPv6] or localhost; port "
+			 "0..65535, 0 = any free port), or empty for off",
+			 v);
+		return -EINVAL;
+	}
+	errno = 0;
+	port = strtol(colon + 1, &end, 10);
+	if (!colon[1] || *end || errno || port < 0 || port > 65535 || !isdigit(colon[1])) {
+		snprintf(what, size, "'%s': port '%s': expected 0..65535 (0 = any free port)", v,
+			 colon + 1);
+		return -EINVAL;
+	}
+	if (hl_http_parse_listen(v, &ss, NULL) < 0) {
+		snprintf(what, size,
+			 "'%s': host '%.*s': expected an IPv4 address, [IPv6 address] or localhost",
+			 v, (int)(colon - v), v);
+		return -EINVAL;
+	}
+	return 0;
+}
+
+/* A network interface name: 1..15 bytes, no '/', ':' or white space, not "." or "..". */
+static bool valid_iface(const char *v)
+{
+	const size_t n = strlen(v);
+
+	if (n >= 16 || strcmp(v, ".") == 0 || strcmp(v, "..") == 0)
+		return false;
+	for (const char *c = v; *c; c++)
+		if (*c == '/' || *c == ':' || isspace((unsigned char)*c) ||
+		    !isprint((unsigned char)*c))
+			return false;
+	return true;
+}
+
+/* Lamp names: 1..8, comma separated, each letters, digits, '_' or '-'. */
+static bool valid_lamps(const char *v)
+{
+	int n = 0;
+	size_t len = 0;
+
+	for (const char *c = v;; c++) {
+		if (*c == ',' || *c == '\0') {
+			if (len == 0 || ++n > HL_ASM_MAX_LAMPS)
+				return false;
+			if (!*c)
+				return true;
+			len = 0;
+		} else if (isalnum((unsigned char)*c) || *c == '_' || *c == '-') {
+			len++;
+		} else {
+			return false;
+		}
+	}
+}
+
+/* Reads value into cfg at k; 0 or -EINVAL (err says why, cfg untouched). */
+static int set_value(struct hl_config *cfg, const struct key *k, const char *value,
+		     const char *origin, int line, struct hl_config_error *err)
+{
+	char *at = (char *)cfg + k->offset, *end, what[400];
+
 	switch (k->kind) {
 	case STRING:
-	case EDGE:
-		if (k->kind == EDGE && strcmp(value, "rising") != 0 &&
-		    strcmp(value, "falling") != 0 && strcmp(value, "both") != 0)
-			return bad(err, origin, line, section, name,
-				   "expected rising, falling or both");
 		if (copy_string(at, HL_CONFIG_NAME, value) < 0)
-			return bad(err, origin, line, section, name, "too long");
+			return bad(err, origin, line, k, "'%s': too long (at most %d bytes)", value,
+				   HL_CONFIG_NAME - 1);
 		return 0;
 	case PATH:
+		if (k->max > 0 && strlen(value) > k->max)
+			return bad(
+				err, origin, line, k,
+				"'%s': path too long (at most %.0f bytes: a Unix socket's address)",
+				value, k->max);
 		if (copy_string(at, HL_CONFIG_PATH, value) < 0)
-			return bad(err, origin, line, section, name, "path too long");
+			return bad(err, origin, line, k, "path too long (at most %d bytes)",
+				   HL_CONFIG_PATH - 1);
 		return 0;
-	case BACKEND:
-		if (strcmp(value, "auto") != 0 && strcmp(value, "cpu") != 0 &&
-		    strcmp(value, "gles") != 0)
-			return bad(err, origin, line, section, name, "expected auto, cpu or gles");
-		strcpy(at, value);
+	case ENUM:
+		if (!is_choice(k->choices, value)) {
+			choices_text(k->choices, what, sizeof(what));
+			return bad(err, origin, line, k, "'%s': expected %s", value, what);
+		}
+		strcpy(at, value); /* a choice is short */
+		return 0;
+	case ADDRESS:
+		if (check_address(value, what, sizeof(what)) < 0 ||
+		    copy_string(at, HL_CONFIG_NAME, value) < 0)
+			return bad(err, origin, line, k, "%s", what);
+		return 0;
+	case IFACE:
+		if (!valid_iface(value) || copy_string(at, HL_CONFIG_NAME, value) < 0)
+			return bad(
+				err, origin, line, k,
+				"'%s': expected an interface name (1..15 characters, no '/', ':' "
+				"or spaces), or empty",
+				value);
+		return 0;
+	case LAMPS:
+		if (!valid_lamps(value) || copy_string(at, HL_CONFIG_NAME, value) < 0)
+			return bad(
+				err, origin, line, k,
+				"'%s': expected 1..%d lamp names (letters, digits, _ -) separated "
+				"by commas, such as left,right",
+				value, HL_ASM_MAX_LAMPS);
 		return 0;
 	case BOOL:
 		if (strcmp(value, "true") == 0 || strcmp(value, "yes") == 0 ||
@@ -284,38 +440,36 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 			 strcmp(value, "0") == 0)
 			*(bool *)at = false;
 		else
-			return bad(err, origin, line, section, name, "expected true or false");
+			return bad(err, origin, line, k, "'%s': expected true or false", value);
 		return 0;
 	case INT: {
-		long v = strtol(value, &end, 10);
+		long v;
 
-		if (!*value || *end || v < k->min || v > k->max) {
-			snprintf(what, sizeof(what), "'%s': expected an integer %.0f..%.0f", value,
-				 k->min, k->max);
-			return bad(err, origin, line, section, name, what);
-		}
+		errno = 0;
+		v = strtol(value, &end, 10);
+		if (!*value || *end || errno || v < k->min || v > k->max)
+			return bad(err, origin, line, k, "'%s': expected an integer %.0f..%.0f",
+				   value, k->min, k->max);
 		*(int *)at = (int)v;
 		return 0;
 	}
 	case DOUBLE: {
 		double v = strtod(value, &end);
 
-		if (!*value || *end || !isfinite(v) || v < k->min || v > k->max) {
-			snprintf(what, sizeof(what), "'%s': expected a number %g..%g", value,
-				 k->min, k->max);
-			return bad(err, origin, line, section, name, what);
-		}
+		if (!*value || *end || !isfinite(v) || v < k->min || v > k->max)
+			return bad(err, origin, line, k, "'%s': expected a number %g..%g", value,
+				   k->min, k->max);
 		*(double *)at = v;
 		return 0;
 	}
 	case SIZE: {
-		long w = strtol(value, &end, 10), h;
+		long w = isdigit((unsigned char)value[0]) ? strtol(value, &end, 10) : 0, h = 0;
 
-		if (*end != 'x' || w < 16 || w > 8192)
-			return bad(err, origin, line, section, name, "expected WxH, each 16..8192");
-		h = strtol(end + 1, &end, 10);
+		if (w >= 16 && w <= 8192 && *end == 'x' && isdigit((unsigned char)end[1]))
+			h = strtol(end + 1, &end, 10);
 		if (*end || h < 16 || h > 8192)
-			return bad(err, origin, line, section, name, "expected WxH, each 16..8192");
+			return bad(err, origin, line, k, "'%s': expected WxH, each 16..8192",
+				   value);
 		cfg->width = (int)w;
 		cfg->height = (int)h;
 		return 0;
@@ -325,29 +479,35 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 			cfg->failsafe = HL_FAILSAFE_HOLD;
 		} else if (strcmp(value, "dark") == 0) {
 			cfg->failsafe = HL_FAILSAFE_DARK;
-		} else if (strncmp(value, "preset:", 7) == 0 && value[7] &&
+		} else if (strncmp(value, "preset:", 7) == 0 &&
+			   valid_set_id(value + 7, strlen(value + 7)) &&
 			   copy_string(cfg->failsafe_preset, HL_CONFIG_NAME, value + 7) == 0) {
 			cfg->failsafe = HL_FAILSAFE_PRESET;
 		} else {
-			return bad(err, origin, line, section, name,
-				   "expected hold, dark or preset:NAME");
+			return bad(err, origin, line, k,
+				   "'%s': expected hold, dark or preset:NAME (NAME.json in "
+				   "lamps.presets)",
+				   value);
 		}
 		return 0;
 	case SETS:
 		if (parse_sets(cfg, value, what, sizeof(what)) < 0)
-			return bad(err, origin, line, section, name, what);
+			return bad(err, origin, line, k, "%s", what);
 		return 0;
 	case MODES:
 		if (!valid_modes(value))
-			return bad(err, origin, line, section, name,
-				   "expected MODE:ID+ID,MODE:ID,... (a mode's sets joined by +, "
-				   "no spaces)");
+			return bad(
+				err, origin, line, k,
+				"'%s': expected MODE:ID+ID,MODE:ID,... (a mode's sets joined by +, "
+				"no spaces)",
+				value);
 		if (copy_string(at, HL_CONFIG_PATH, value) < 0)
-			return bad(err, origin, line, section, name, "too long");
+			return bad(err, origin, line, k, "too long (at most %d bytes)",
+				   HL_CONFIG_PATH - 1);
 		return 0;
 	case TRAFFIC:
 		if (strcmp(value, "right") != 0 && strcmp(value, "left") != 0)
-			return bad(err, origin, line, section, name, "expected right or left");
+			return bad(err, origin, line, k, "'%s': expected right or left", value);
 		cfg->traffic_left = strcmp(value, "left") == 0;
 		return 0;
 	case PAIR: {
@@ -361,11 +521,10 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 				v[1] = NAN;
 		}
 		if (*end || !(v[0] >= k->min && v[0] <= k->max) ||
-		    !(v[1] >= k->min && v[1] <= k->max)) {
-			snprintf(what, sizeof(what), "'%s': expected two numbers %g..%g, as A,B",
-				 value, k->min, k->max);
-			return bad(err, origin, line, section, name, what);
-		}
+		    !(v[1] >= k->min && v[1] <= k->max))
+			return bad(err, origin, line, k,
+				   "'%s': expected two numbers %g..%g, as A,B", value, k->min,
+				   k->max);
 		memcpy(at, v, sizeof(v));
 		return 0;
 	}
@@ -373,98 +532,30 @@ int hl_config_set(struct hl_config *cfg, const char *section, const char *name, 
 	return -EINVAL;
 }
 
-struct load_ctx {
-	struct hl_config *cfg;
+static const struct key *find_key(const char *section, const char *name)
+{
+	for (size_t i = 0; i < N_KEYS; i++)
+		if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
+			return &keys[i];
+	return NULL;
+}
+
+int hl_config_set(struct hl_config *cfg, const char *section, const char *name, const char *value,
+		  const char *origin, int line, struct hl_config_error *err)
+{
+	const struct key *k = find_key(section, name);
 	int rc;
-	char section[64], name[64], value[HL_CONFIG_PATH]; /* the first bad key */
-};
 
-/* inih (as Debian builds it) gives no line number to the handler; ini_parse_file returns the
- * line of the first key the handler refused, and the message is made again with it. */
-static int on_pair(void *user, const char *section, const char *name, const char *value)
-{
-	struct load_ctx *c = user;
+	if (!k) {
+		const struct key unknown = { .section = section, .name = name };
 
-	if (c->rc < 0)
-		return 0;
-	c->rc = hl_config_set(c->cfg, section, name, value, "", 0, NULL);
-	if (c->rc < 0) {
-		snprintf(c->section, sizeof(c->section), "%s", section);
-		snprintf(c->name, sizeof(c->name), "%s", name);
-		snprintf(c->value, sizeof(c->value), "%s", value);
+		return bad(err, origin, line, &unknown,
+			   "unknown key (hdlampd --print-config lists every key)");
 	}
-	return c->rc == 0;
-}
-
-/* The line of key name under [section] (inih's syntax: whitespace, '=' or ':'), 0 if none. */
-static int key_line(FILE *f, const char *section, const char *name)
-{
-	char buf[1024], cur[64] = "";
-	int line = 0;
-
-	rewind(f);
-	while (fgets(buf, sizeof(buf), f)) {
-		char *p = buf, *end;
-		size_t n;
-
-		line++;
-		while (*p == ' ' || *p == '\t')
-			p++;
-		if (*p == '[' && (end = strchr(p, ']'))) {
-			n = (size_t)(end - p - 1);
-			snprintf(cur, sizeof(cur), "%.*s",
-				 (int)(n < sizeof(cur) ? n : sizeof(cur) - 1), p + 1);
-			continue;
-		}
-		n = strlen(name);
-		if (strcmp(cur, section) == 0 && strncmp(p, name, n) == 0 &&
-		    strspn(p + n, " \t") + n < strlen(p) &&
-		    strchr("=:", p[n + strspn(p + n, " \t")]))
-			return line;
-	}
-	return 0;
-}
-
-int hl_config_load(struct hl_config *cfg, const char *path, struct hl_config_error *err)
-{
-	struct load_ctx c = { .cfg = cfg };
-	FILE *f = fopen(path, "re");
-	int line;
-
-	if (!f) {
-		int rc = -errno;
-
-		if (err)
-			snprintf(err->msg, sizeof(err->msg), "'%s': %s", path, strerror(errno));
-		return rc;
-	}
-	{
-		struct stat st;
-
-		/* fopen() opens a directory and reading it yields nothing: refuse it */
-		if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-			fclose(f);
-			if (err)
-				snprintf(err->msg, sizeof(err->msg),
-					 "'%s': a directory; expected an INI file", path);
-			return -EINVAL;
-		}
-	}
-	line = ini_parse_file(f, on_pair, &c);
-	/* the first fault is either the refused key or a syntax error before it */
-	if (c.rc < 0 && key_line(f, c.section, c.name) == line) {
-		fclose(f);
-		return hl_config_set(cfg, c.section, c.name, c.value, path, line, err);
-	}
-	fclose(f);
-	if (line != 0 || c.rc < 0) {
-		if (err)
-			snprintf(err->msg, sizeof(err->msg),
-				 "'%s':%d: expected [section], key = value, or a ; comment", path,
-				 line);
-		return -EINVAL;
-	}
-	return 0;
+	rc = set_value(cfg, k, value, origin, line, err);
+	if (rc == 0)
+		cfg->set_at[k - keys] = (struct hl_config_origin){ origin, line };
+	return rc;
 }
 
 int hl_config_set_arg(struct hl_config *cfg, const char *assignment, const char *origin,
@@ -495,9 +586,172 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "exactly one of can.interface and can.replay is needed";
 	else if ((cfg->replay_fast || cfg->replay_loop) && !cfg->replay[0])
 		why = "can.replay_fast and can.replay_loop need can.replay";
+	else if (cfg->replay_passes && !cfg->replay_loop)
+		why = "can.replay_passes needs can.replay_loop";
+	else if (cfg->replay_loop && strcmp(cfg->replay, "-") == 0)
+		why = "can.replay_loop needs a file: standard input cannot be replayed again";
 	if (why && err)
 		snprintf(err->msg, sizeof(err->msg), "%s", why);
 	return why ? -EINVAL : 0;
+}
+
+/* A readable regular file (or directory, dir); 0 or -errno / -EISDIR / -ENOTDIR. */
+static int need(const char *path, bool dir)
+{
+	struct stat st;
+
+	if (stat(path, &st) < 0)
+		return -errno;
+	if (dir != !!S_ISDIR(st.st_mode))
+		return dir ? -ENOTDIR : -EISDIR;
+	return access(path, dir ? X_OK : R_OK) < 0 ? -errno : 0;
+}
+
+static const struct key *key_of(size_t offset)
+{
+	for (size_t i = 0; i < N_KEYS; i++)
+		if (keys[i].offset == offset)
+			return &keys[i];
+	return NULL;
+}
+
+/* A file key's value that is no readable file (or directory): the error naming both. */
+static int check_path(const struct hl_config *cfg, size_t offset, const char *path, bool dir,
+		      const char *expected, struct hl_config_error *err)
+{
+	const struct key *k = key_of(offset);
+	const struct hl_config_origin *o = &cfg->set_at[k - keys];
+	const int rc = need(path, dir);
+
+	if (rc == 0)
+		return 0;
+	if (rc == -EISDIR || rc == -ENOTDIR)
+		return bad(err, o->origin, o->line, k, "'%s': %s; expected %s", path,
+			   rc == -EISDIR ? "a directory" : "not a directory", expected);
+	return bad(err, o->origin, o->line, k, "'%s': %s; expected %s", path, strerror(-rc),
+		   expected);
+}
+
+int hl_config_check_files(const struct hl_config *cfg, bool render, struct hl_config_error *err)
+{
+	char path[HL_CONFIG_PATH + HL_CONFIG_NAME + 8];
+	const char *lids[2] = { cfg->lid_left, cfg->lid_right };
+	int rc, n_lamps = 1;
+
+	if (cfg->replay[0] && strcmp(cfg->replay, "-") != 0) {
+		struct hl_candump_log *log = NULL;
+		const struct key *k = key_of(F(replay));
+		const struct hl_config_origin *o = &cfg->set_at[k - keys];
+
+		rc = check_path(cfg, F(replay), cfg->replay, false, "a candump -L log", err);
+		if (rc < 0)
+			return rc;
+		rc = hl_candump_log_open(cfg->replay, 1, &log);
+		hl_candump_log_free(log);
+		if (rc == -ENODATA)
+			return bad(err, o->origin, o->line, k,
+				   "'%s': no CAN frame in it; expected candump -L lines such as "
+				   "'(1700000000.000000) can0 123#11223344'",
+				   cfg->replay);
+		if (rc < 0)
+			return bad(err, o->origin, o->line, k, "'%s': %s", cfg->replay,
+				   strerror(-rc));
+	}
+	rc = check_path(cfg, F(dbc), cfg->dbc, false, "a DBC file", err);
+	if (rc < 0 || !render)
+		return rc;
+	for (const char *c = cfg->lamps; *c; c++)
+		n_lamps += *c == ',';
+	if (n_lamps > 2) {
+		const struct key *k = key_of(F(lamps));
+
+		return bad(err, cfg->set_at[k - keys].origin, cfg->set_at[k - keys].line, k,
+			   "'%s': the renderer takes one or two lamps", cfg->lamps);
+	}
+	for (int l = 0; l < n_lamps && l < 2; l++) {
+		const size_t off = l ? F(lid_right) : F(lid_left);
+
+		if (!lids[l][0]) {
+			const struct key *k = key_of(off);
+
+			return bad(err, cfg->set_at[k - keys].origin, cfg->set_at[k - keys].line, k,
+				   "no LID file configured for lamp %d of can.lamps (make one with "
+				   "'hdlamp model --out DIR')",
+				   l + 1);
+		}
+		rc = check_path(cfg, off, lids[l], false, "a LID file (.lid.exr)", err);
+		if (rc < 0)
+			return rc;
+	}
+	if (cfg->failsafe == HL_FAILSAFE_PRESET) {
+		snprintf(path, sizeof(path), "%s/%s.json", cfg->presets[0] ? cfg->presets : ".",
+			 cfg->failsafe_preset);
+		rc = check_path(cfg, F(failsafe), path, false,
+				"the preset NAME.json in the directory lamps.presets", err);
+		if (rc < 0)
+			return rc;
+	}
+	if (cfg->stream_unix[0]) {
+		const char *slash = strrchr(cfg->stream_unix, '/');
+
+		snprintf(path, sizeof(path), "%.*s", slash ? (int)(slash - cfg->stream_unix) : 1,
+			 slash ? cfg->stream_unix : ".");
+		if (slash == cfg->stream_unix)
+			strcpy(path, "/");
+		rc = check_path(cfg, F(stream_unix), path, true,
+				"the directory of the socket to exist", err);
+		if (rc < 0)
+			return rc;
+	}
+	return 0;
+}
+
+/* One key's value as hl_config_set reads it. */
+static void print_value(const struct hl_config *cfg, const struct key *k, FILE *f)
+{
+	const char *at = (const char *)cfg + k->offset;
+
+	switch (k->kind) {
+	case STRING:
+	case PATH:
+	case ENUM:
+	case ADDRESS:
+	case IFACE:
+	case LAMPS:
+	case MODES:
+		fprintf(f, "%s\n", at);
+		break;
+	case BOOL:
+		fprintf(f, "%s\n", *(const bool *)at ? "true" : "false");
+		break;
+	case INT:
+		fprintf(f, "%d\n", *(const int *)at);
+		break;
+	case DOUBLE:
+		fprintf(f, "%g\n", *(const double *)at);
+		break;
+	case SIZE:
+		fprintf(f, "%dx%d\n", cfg->width, cfg->height);
+		break;
+	case SETS:
+		for (int s = 0; s < cfg->n_verdict_sets; s++)
+			fprintf(f, "%s%s", s ? "," : "", cfg->verdict_sets[s]);
+		fputc('\n', f);
+		break;
+	case TRAFFIC:
+		fprintf(f, "%s\n", cfg->traffic_left ? "left" : "right");
+		break;
+	case PAIR:
+		fprintf(f, "%g,%g\n", ((const double *)at)[0], ((const double *)at)[1]);
+		break;
+	case FAILSAFE:
+		fprintf(f, "%s%s\n",
+			cfg->failsafe == HL_FAILSAFE_HOLD ? "hold" :
+			cfg->failsafe == HL_FAILSAFE_DARK ? "dark" :
+							    "preset:",
+			cfg->failsafe == HL_FAILSAFE_PRESET ? cfg->failsafe_preset : "");
+		break;
+	}
 }
 
 void hl_config_print(const struct hl_config *cfg, void *file)
@@ -505,53 +759,14 @@ void hl_config_print(const struct hl_config *cfg, void *file)
 	FILE *f = file;
 	const char *section = "";
 
-	for (size_t i = 0; i < sizeof(keys) / sizeof(keys[0]); i++) {
+	for (size_t i = 0; i < N_KEYS; i++) {
 		const struct key *k = &keys[i];
-		const char *at = (const char *)cfg + k->offset;
 
 		if (strcmp(section, k->section) != 0) {
 			fprintf(f, "%s[%s]\n", i ? "\n" : "", k->section);
 			section = k->section;
 		}
 		fprintf(f, "; %s\n%s = ", k->help, k->name);
-		switch (k->kind) {
-		case STRING:
-		case PATH:
-		case BACKEND:
-		case EDGE:
-		case MODES:
-			fprintf(f, "%s\n", at);
-			break;
-		case BOOL:
-			fprintf(f, "%s\n", *(const bool *)at ? "true" : "false");
-			break;
-		case INT:
-			fprintf(f, "%d\n", *(const int *)at);
-			break;
-		case DOUBLE:
-			fprintf(f, "%g\n", *(const double *)at);
-			break;
-		case SIZE:
-			fprintf(f, "%dx%d\n", cfg->width, cfg->height);
-			break;
-		case SETS:
-			for (int s = 0; s < cfg->n_verdict_sets; s++)
-				fprintf(f, "%s%s", s ? "," : "", cfg->verdict_sets[s]);
-			fputc('\n', f);
-			break;
-		case TRAFFIC:
-			fprintf(f, "%s\n", cfg->traffic_left ? "left" : "right");
-			break;
-		case PAIR:
-			fprintf(f, "%g,%g\n", ((const double *)at)[0], ((const double *)at)[1]);
-			break;
-		case FAILSAFE:
-			fprintf(f, "%s%s\n",
-				cfg->failsafe == HL_FAILSAFE_HOLD ? "hold" :
-				cfg->failsafe == HL_FAILSAFE_DARK ? "dark" :
-								    "preset:",
-				cfg->failsafe == HL_FAILSAFE_PRESET ? cfg->failsafe_preset : "");
-			break;
-		}
+		print_value(cfg, k, f);
 	}
 }

@@ -2,7 +2,9 @@
 /*
  * hdlampd's configuration: an INI file (inih) with command-line overrides
  * (--set SECTION.KEY=VALUE and the short options). Every key is listed in config.c's table and
- * in hdlampd.conf(5); an unknown key or a bad value is an error naming file, line and key.
+ * in hdlampd.conf(5). Each value's whole syntax and range is checked when it is set; the files
+ * the keys name are checked once everything is set (hl_config_check_files). An unknown key or a
+ * bad value is an error naming where it was set (the file and line, or the option) and the key.
  *
  * Thread-safety: loaded by the main thread; the other threads get a copy.
  */
@@ -17,6 +19,15 @@
 #define HL_CONFIG_SET_ID 48 /* a set id's bytes with the NUL (lamp/regulation.h: HL_REG_ID_MAX) */
 #define HL_CONFIG_ROAD_LEVELS 2 /* render/road_kpi.h: HL_ROAD_KPI_LEVELS */
 #define HL_CONFIG_ROAD_WIDTHS 2 /* render/road_kpi.h: HL_ROAD_KPI_WIDTHS */
+#define HL_CONFIG_MAX_KEYS 64 /* keys in config.c's table, at most */
+#define HL_CONFIG_MAX_WARNINGS 8 /* listed one by one; the rest counted */
+
+/* Where a key's value came from, for messages about it after loading. */
+struct hl_config_origin {
+	const char *origin; /* borrowed from the caller of hl_config_set (a path, an option as
+			     * given); NULL: the default */
+	int line; /* in the file origin, 0 for the command line */
+};
 
 enum hl_failsafe {
 	HL_FAILSAFE_HOLD, /* keep the last valid intensities */
@@ -29,6 +40,7 @@ struct hl_config {
 	char interface[HL_CONFIG_NAME]; /* SocketCAN interface, or "" */
 	char replay[HL_CONFIG_PATH]; /* candump log, or "" */
 	bool replay_fast, replay_loop;
+	int replay_passes; /* with replay_loop: stop after this many passes, 0 = never */
 	char dbc[HL_CONFIG_PATH];
 	char lamps[HL_CONFIG_NAME]; /* lamp names, comma separated */
 	int timeout_ms;
@@ -74,22 +86,43 @@ struct hl_config {
 	/* [road] */
 	double road_levels_lx[HL_CONFIG_ROAD_LEVELS]; /* illuminance levels of the ranges */
 	double road_width_at_m[HL_CONFIG_ROAD_WIDTHS]; /* where the width is taken */
+	/* where each key of config.c's table was last set, by its index there */
+	struct hl_config_origin set_at[HL_CONFIG_MAX_KEYS];
 };
 
 struct hl_config_error {
-	char msg[512]; /* names the file (or "command line"), the line and the key */
+	char msg[512]; /* names the file and line (or the option), and the key */
+	/* hl_config_load: keys set more than once in the file (the last value counts), each
+	 * naming both lines; n_warnings counts them all, the first HL_CONFIG_MAX_WARNINGS listed */
+	int n_warnings;
+	char warnings[HL_CONFIG_MAX_WARNINGS][320];
 };
 
 void hl_config_defaults(struct hl_config *cfg);
-/* Reads path over cfg. 0, -ENOENT/-errno (cannot open), -EINVAL (err says where). */
+/*
+ * (config_file.c) Reads path over cfg (path is kept in cfg->set_at: it must outlive cfg's messages). 0,
+ * -ENOENT/-errno (cannot open; err says so), -EINVAL (err says where); err's warnings are set
+ * in every case.
+ */
 int hl_config_load(struct hl_config *cfg, const char *path, struct hl_config_error *err);
-/* Sets one key ("section.key=value"); origin names where it came from in messages. */
+/*
+ * Sets one key ("section.key=value"); origin names where it came from in messages, e.g. the
+ * option as given ("--set render.view=lux"), and is kept in cfg->set_at (borrowed).
+ */
 int hl_config_set_arg(struct hl_config *cfg, const char *assignment, const char *origin,
 		      struct hl_config_error *err);
+/* The same, line > 0 for a line of the file origin. 0 or -EINVAL (cfg untouched). */
 int hl_config_set(struct hl_config *cfg, const char *section, const char *key, const char *value,
 		  const char *origin, int line, struct hl_config_error *err);
 /* Checks the whole (e.g. exactly one CAN input). 0 or -EINVAL. */
 int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err);
+/*
+ * Checks the files the keys name, as they are now: the replay log (a readable file with at
+ * least one frame; "-" is not checked), the DBC, and when render is set the lamps' LID files
+ * (the first two lamps of can.lamps), the fail-safe preset and the Unix socket's directory.
+ * 0, or -EINVAL with err naming where the key was set, the key, the file and why.
+ */
+int hl_config_check_files(const struct hl_config *cfg, bool render, struct hl_config_error *err);
 /* Writes every key with its value as an INI file (for --print-config and the docs). */
 void hl_config_print(const struct hl_config *cfg, void *file);
 

@@ -20,6 +20,7 @@ struct options {
 	struct hl_config cfg;
 	const char *config_path;
 	char *overrides[MAX_OVERRIDES]; /* SECTION.KEY=VALUE, in order; re-applied on reload */
+	char *origins[MAX_OVERRIDES]; /* each one's option as given, for messages */
 	int n_overrides;
 	char *lamp_names[HL_ASM_MAX_LAMPS];
 	int n_lamps;
@@ -40,6 +41,7 @@ static void usage(FILE *f)
 		"                     for, and reopened when it goes down or disappears\n"
 		"  --replay LOG       = can.replay: a candump -L log ('-' for stdin) with its timing\n"
 		"  --fast, --loop     = can.replay_fast, can.replay_loop\n"
+		"  --loop-passes N    = --loop and can.replay_passes: stop after N passes\n"
 		"  --dbc FILE         = can.dbc (default dbc/hd84.dbc)\n"
 		"                     loaded leniently, its irregularities printed as warnings;\n"
 		"                     --set dbc.strict=true refuses them (docs/dbc-compat.md)\n"
@@ -55,15 +57,22 @@ static void usage(FILE *f)
 		"(exit 0). --no-render prints JSON lines: cycles, status changes and a summary.\n");
 }
 
-static int add_override(struct options *o, const char *section_key, const char *value)
+/* One override: the key's assignment and the option it came from (for messages). */
+static int add_override(struct options *o, const char *section_key, const char *value,
+			const char *option, const char *arg)
 {
-	char *s;
+	char *s = NULL, *origin = NULL;
 
-	if (o->n_overrides == MAX_OVERRIDES || asprintf(&s, "%s=%s", section_key, value) < 0) {
+	if (o->n_overrides == MAX_OVERRIDES ||
+	    (section_key ? asprintf(&s, "%s=%s", section_key, value) : asprintf(&s, "%s", value)) <
+		    0 ||
+	    asprintf(&origin, "%s%s%s", option, arg ? " " : "", arg ? arg : "") < 0) {
+		free(s);
 		fprintf(stderr, "hdlampd: too many overrides\n");
 		return -EINVAL;
 	}
-	o->overrides[o->n_overrides++] = s;
+	o->overrides[o->n_overrides] = s;
+	o->origins[o->n_overrides++] = origin;
 	return 0;
 }
 
@@ -76,6 +85,7 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "replay", required_argument, NULL, 'r' },
 		{ "fast", no_argument, NULL, 'f' },
 		{ "loop", no_argument, NULL, 'l' },
+		{ "loop-passes", required_argument, NULL, 'N' },
 		{ "dbc", required_argument, NULL, 'd' },
 		{ "lamps", required_argument, NULL, 'L' },
 		{ "timeout-ms", required_argument, NULL, 't' },
@@ -99,30 +109,34 @@ static int parse_options(int argc, char **argv, struct options *o)
 			o->config_path = optarg;
 			break;
 		case 'S':
-			if (o->n_overrides == MAX_OVERRIDES)
-				return -EINVAL;
-			o->overrides[o->n_overrides++] = strdup(optarg);
+			rc = add_override(o, NULL, optarg, "--set", optarg);
 			break;
 		case 'c':
-			rc = add_override(o, "can.interface", optarg);
+			rc = add_override(o, "can.interface", optarg, "--can", optarg);
 			break;
 		case 'r':
-			rc = add_override(o, "can.replay", optarg);
+			rc = add_override(o, "can.replay", optarg, "--replay", optarg);
 			break;
 		case 'f':
-			rc = add_override(o, "can.replay_fast", "true");
+			rc = add_override(o, "can.replay_fast", "true", "--fast", NULL);
 			break;
 		case 'l':
-			rc = add_override(o, "can.replay_loop", "true");
+			rc = add_override(o, "can.replay_loop", "true", "--loop", NULL);
+			break;
+		case 'N':
+			rc = add_override(o, "can.replay_loop", "true", "--loop-passes", optarg);
+			if (rc == 0)
+				rc = add_override(o, "can.replay_passes", optarg, "--loop-passes",
+						  optarg);
 			break;
 		case 'd':
-			rc = add_override(o, "can.dbc", optarg);
+			rc = add_override(o, "can.dbc", optarg, "--dbc", optarg);
 			break;
 		case 'L':
-			rc = add_override(o, "can.lamps", optarg);
+			rc = add_override(o, "can.lamps", optarg, "--lamps", optarg);
 			break;
 		case 't':
-			rc = add_override(o, "can.timeout_ms", optarg);
+			rc = add_override(o, "can.timeout_ms", optarg, "--timeout-ms", optarg);
 			break;
 		case 's':
 			v = strtol(optarg, &end, 10);
@@ -160,14 +174,18 @@ static int parse_options(int argc, char **argv, struct options *o)
 	/* defaults, then the file, then the command line, whatever their order there */
 	if (o->config_path) {
 		rc = hl_config_load(&o->cfg, o->config_path, &err);
+		for (int i = 0; i < err.n_warnings && i < HL_CONFIG_MAX_WARNINGS; i++)
+			fprintf(stderr, "hdlampd: %s\n", err.warnings[i]);
+		if (err.n_warnings > HL_CONFIG_MAX_WARNINGS)
+			fprintf(stderr, "hdlampd: '%s': %d more keys set twice\n", o->config_path,
+				err.n_warnings - HL_CONFIG_MAX_WARNINGS);
 		if (rc < 0) {
 			fprintf(stderr, "hdlampd: %s\n", err.msg);
-			return rc == -EINVAL ? -EINVAL : -ENOENT;
+			return -EINVAL;
 		}
 	}
 	for (int i = 0; i < o->n_overrides; i++) {
-		if (!o->overrides[i] ||
-		    hl_config_set_arg(&o->cfg, o->overrides[i], "command line", &err) < 0) {
+		if (hl_config_set_arg(&o->cfg, o->overrides[i], o->origins[i], &err) < 0) {
 			fprintf(stderr, "hdlampd: %s\n", err.msg);
 			return -EINVAL;
 		}
@@ -178,17 +196,14 @@ static int parse_options(int argc, char **argv, struct options *o)
 		fprintf(stderr, "hdlampd: %s (--can IFACE or --replay LOG)\n", err.msg);
 		return -EINVAL;
 	}
+	/* can.lamps' syntax is checked as it is set: 1..HL_ASM_MAX_LAMPS names */
 	snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
-	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save); tok;
-	     tok = strtok_r(NULL, ",", &save)) {
-		if (o->n_lamps == HL_ASM_MAX_LAMPS) {
-			fprintf(stderr, "hdlampd: can.lamps: at most %d lamps\n", HL_ASM_MAX_LAMPS);
-			return -EINVAL;
-		}
+	for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save);
+	     tok && o->n_lamps < HL_ASM_MAX_LAMPS; tok = strtok_r(NULL, ",", &save))
 		o->lamp_names[o->n_lamps++] = tok;
-	}
-	if (o->n_lamps == 0) {
-		fprintf(stderr, "hdlampd: can.lamps: expected names such as left,right\n");
+	/* the files the keys name, before anything starts */
+	if (hl_config_check_files(&o->cfg, !o->no_render, &err) < 0) {
+		fprintf(stderr, "hdlampd: %s\n", err.msg);
 		return -EINVAL;
 	}
 	return 0;
@@ -202,7 +217,7 @@ int main(int argc, char **argv)
 	setvbuf(stdout, NULL, _IOLBF, 0);
 	rc = parse_options(argc, argv, &o);
 	if (rc < 0)
-		return rc == -ENOENT ? 1 : 2;
+		return 2; /* a usage or configuration error */
 	if (o.print_config) {
 		hl_config_print(&o.cfg, stdout);
 		rc = 0;
@@ -224,7 +239,9 @@ int main(int argc, char **argv)
 		}
 		rc = hl_live_run(&o.cfg, &args);
 	}
-	for (int i = 0; i < o.n_overrides; i++)
+	for (int i = 0; i < o.n_overrides; i++) {
 		free(o.overrides[i]);
+		free(o.origins[i]);
+	}
 	return rc;
 }

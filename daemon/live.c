@@ -213,8 +213,10 @@ static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources
 		 cfg->failsafe_preset);
 	rc = hl_preset_read(path, &p, &perr);
 	if (rc < 0) {
-		log_msg("lamps.failsafe preset '%s': '%s':%d:%d: %s", cfg->failsafe_preset, path,
-			perr.line, perr.column, perr.msg);
+		/* line and column only where the file has them (not for one that cannot open) */
+		log_msg("lamps.failsafe preset '%s': '%s'%s%.0d%s%.0d: %s", cfg->failsafe_preset,
+			path, perr.line ? ":" : "", perr.line, perr.line ? ":" : "", perr.column,
+			perr.msg);
 		return rc;
 	}
 	if (p->n_sources != n_sources) {
@@ -337,10 +339,6 @@ static int setup_input(struct live *lv, int *ret_n_sources)
 
 		log_msg("'%s':%d:%d: warning: %s", lv->cfg.dbc, line, col, w);
 	}
-	if (lv->args->render && lv->args->n_lamps > HL_FRAME_MAX_LAMPS) {
-		log_msg("can.lamps '%s': the renderer takes one or two lamps", lv->cfg.lamps);
-		return -EINVAL;
-	}
 	/* replays run on the log's timeline (0 = first frame); a live bus on CLOCK_MONOTONIC */
 	rc = hl_assembler_new(lv->db, (const char *const *)lv->args->lamp_names, lv->args->n_lamps,
 			      lv->cfg.timeout_ms,
@@ -459,7 +457,7 @@ static int setup_renderer(struct live *lv, int n_src)
 				     (const uint8_t *const *)dims, lv->ring, lv->pool, lv->verdicts,
 				     &hooks, &lv->pipe);
 		if (rc < 0)
-			log_msg("render.view '%s': expected display, lux or hdr", lv->cfg.view);
+			log_msg("renderer: %s", strerror(-rc));
 	}
 	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
 		free(dims[l]);
@@ -574,6 +572,7 @@ static int setup(struct live *lv)
 			.replay = lv->cfg.replay[0] ? lv->cfg.replay : NULL,
 			.replay_fast = lv->cfg.replay_fast,
 			.replay_loop = lv->cfg.replay_loop,
+			.replay_passes = (uint64_t)lv->cfg.replay_passes,
 			.log = stderr,
 		};
 

@@ -3,7 +3,6 @@
 
 #include <arpa/inet.h>
 #include <errno.h>
-#include <netdb.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <pthread.h>
@@ -19,6 +18,7 @@
 #include <unistd.h>
 
 #include "daemon/clock.h"
+#include "daemon/http.h"
 
 #define MAX_CLIENTS 64
 #define POLL_MS 100
@@ -55,46 +55,31 @@ struct hl_stream {
 	struct hl_stream_counts c;
 };
 
+/* HOST:PORT as http.listen takes it (hl_http_parse_listen: IPv4, [IPv6] or localhost). */
 static int listen_tcp(const char *spec, int *ret_port, char *err, size_t err_size)
 {
-	char host[128];
-	const char *colon = strrchr(spec, ':');
-	struct addrinfo hints = { .ai_family = AF_UNSPEC,
-				  .ai_socktype = SOCK_STREAM,
-				  .ai_flags = AI_NUMERICHOST | AI_NUMERICSERV };
-	struct addrinfo *ai = NULL;
-	struct sockaddr_storage ss;
+	struct sockaddr_storage addr, ss;
 	socklen_t sl = sizeof(ss);
 	const int one = 1;
 	int fd, rc;
 
-	if (!colon || colon == spec || (size_t)(colon - spec) >= sizeof(host)) {
+	if (hl_http_parse_listen(spec, &addr, NULL) < 0) {
+		/* config.c checks the value at load and says more */
 		snprintf(err, err_size, "stream.tcp '%s': expected host:port", spec);
 		return -EINVAL;
 	}
-	memcpy(host, spec, colon - spec);
-	host[colon - spec] = '\0';
-	if (host[0] == '[' && host[strlen(host) - 1] == ']') {
-		memmove(host, host + 1, strlen(host));
-		host[strlen(host) - 1] = '\0';
-	}
-	rc = getaddrinfo(host, colon + 1, &hints, &ai);
-	if (rc) {
-		snprintf(err, err_size, "stream.tcp '%s': %s", spec, gai_strerror(rc));
-		return -EINVAL;
-	}
-	fd = socket(ai->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+	fd = socket(addr.ss_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
 	if (fd < 0 || setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one)) < 0 ||
-	    bind(fd, ai->ai_addr, ai->ai_addrlen) < 0 || listen(fd, 8) < 0 ||
-	    getsockname(fd, (struct sockaddr *)&ss, &sl) < 0) {
+	    bind(fd, (const struct sockaddr *)&addr,
+		 addr.ss_family == AF_INET6 ? sizeof(struct sockaddr_in6) :
+					      sizeof(struct sockaddr_in)) < 0 ||
+	    listen(fd, 8) < 0 || getsockname(fd, (struct sockaddr *)&ss, &sl) < 0) {
 		rc = -errno;
 		snprintf(err, err_size, "stream.tcp '%s': %s", spec, strerror(errno));
 		if (fd >= 0)
 			close(fd);
-		freeaddrinfo(ai);
 		return rc;
 	}
-	freeaddrinfo(ai);
 	*ret_port = ntohs(ss.ss_family == AF_INET6 ? ((struct sockaddr_in6 *)&ss)->sin6_port :
 						     ((struct sockaddr_in *)&ss)->sin_port);
 	return fd;

@@ -453,6 +453,47 @@ static void assembler_beam_mode_signal_rides_with_the_cycle(void **state)
 	free(text);
 }
 
+/*
+ * A restart (a looped log's next pass) forgets the counters: the same counter again is a new
+ * cycle, not repeated frames; a lower one is no jump; a cycle half assembled is incomplete.
+ */
+static void assembler_restart_forgets_the_alive_counters(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_encoded_frame fr[64];
+	struct hl_asm_events ev;
+	struct hl_cycle c = { 0 };
+	float in[95];
+	unsigned long long rng = 5;
+	const struct hl_lamp_counters *lc = hl_assembler_lamp_counters(f->a, 0);
+	int n;
+
+	values(&rng, in);
+	for (unsigned k = 0; k < 3; k++) {
+		n = hl_assembler_encode(f->a, 0, in, k, fr, 64);
+		assert_int_equal(feed(f->a, fr, n, (int64_t)k * 20 * MS, &c, &ev), 1);
+	}
+	/* the next pass begins with counter 0 again: no lost cycles, no repeated frames */
+	hl_assembler_restart(f->a);
+	n = hl_assembler_encode(f->a, 0, in, 0, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 60 * MS, &c, &ev), 1);
+	assert_int_equal(c.counter, 0);
+	assert_int_equal(c.seq, 4);
+	/* a pass ending mid-cycle: the part-assembled cycle is incomplete, the next one whole */
+	n = hl_assembler_encode(f->a, 0, in, 1, fr, 64);
+	assert_int_equal(feed(f->a, fr, n - 1, 80 * MS, &c, &ev), 0);
+	hl_assembler_restart(f->a);
+	n = hl_assembler_encode(f->a, 0, in, 1, fr, 64);
+	assert_int_equal(feed(f->a, fr, n, 100 * MS, &c, &ev), 1);
+	assert_int_equal(lc->cycles, 5);
+	assert_int_equal(lc->lost_cycles, 0);
+	assert_int_equal(lc->repeated_frames, 0);
+	assert_int_equal(lc->incomplete, 1);
+	/* without a restart the same counter again is what it always was: repeated frames */
+	assert_int_equal(feed(f->a, fr, n, 120 * MS, &c, &ev), 0);
+	assert_int_equal(lc->repeated_frames, (uint64_t)n);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -474,6 +515,10 @@ int main(void)
 						teardown),
 		cmocka_unit_test_setup_teardown(assembler_counts_each_injected_fault_once, setup_fd,
 						teardown),
+		cmocka_unit_test_setup_teardown(assembler_restart_forgets_the_alive_counters,
+						setup_classic, teardown),
+		cmocka_unit_test_setup_teardown(assembler_restart_forgets_the_alive_counters,
+						setup_fd, teardown),
 		cmocka_unit_test(assembler_rejects_a_dbc_that_does_not_fit_the_lamps),
 		cmocka_unit_test_setup_teardown(
 			assembler_hdl_source_default_1_assembles_the_same_cycles, setup_classic,

@@ -263,11 +263,101 @@ static void can_input_replay_pushes_exact_cycles_and_stale_events(void **state)
 		snprintf(want, sizeof(want),
 			 "\"frames\":{\"decoded\":%d,\"unknown_id\":1,\"short\":0,\"other\":0,"
 			 "\"error_frames\":0},\"log\":{\"lines\":%d,\"frames\":%d,\"malformed\":1,"
-			 "\"passes\":1}",
+			 "\"backwards\":0,\"passes\":1}",
 			 frames, frames + 2, frames + 1);
 		assert_string_equal(buf, want);
 		free(buf);
 	}
+
+	hl_can_input_free(in);
+	fclose(cfg.log);
+	unlink(log_path);
+	unlink(msg_path);
+	hl_snapshot_free(s);
+	hl_ring_free(ring);
+	hl_assembler_free(a);
+	hl_dbc_free(db);
+}
+
+/*
+ * Two passes of a log (replay_loop, replay_passes 2) whose counters start again at 0: no lost
+ * cycle and no repeated frame at the wrap; a malformed line and a timestamp going backwards are
+ * reported with their line in the file in both passes, and counted.
+ */
+static void can_input_loop_passes_with_lines_per_pass(void **state)
+{
+	char log_path[256], msg_path[256], text[512], want[512];
+	struct hl_dbc *db = load_shipped("hd84.dbc");
+	struct hl_assembler *a = new_assembler(db, 2);
+	struct hl_can_input_config cfg = {
+		.replay = log_path, .replay_fast = true, .replay_loop = true, .replay_passes = 2
+	};
+	struct hl_can_input *in;
+	struct hl_input_status st;
+	struct hl_ring *ring;
+	struct hl_snapshot *s;
+	int lines = 2, back_line;
+	FILE *f;
+	(void)state;
+
+	test_path(log_path, sizeof(log_path), "loop.log");
+	test_path(msg_path, sizeof(msg_path), "loop.msg");
+	f = fopen(log_path, "w");
+	assert_non_null(f);
+	fprintf(f, "# two lamps, counters 0..2\n(1700000000.000000) can0 32G#00\n");
+	for (int k = 0; k < 3; k++)
+		for (int l = 0; l < 2; l++) {
+			struct cycle c = { .lamp = l,
+					   .counter = (unsigned)k,
+					   .t_us = k * 20000 + l * 5000 };
+
+			lines += write_cycle(f, a, &c);
+		}
+	/* an ID no lamp uses, stamped 1 ms before the frame above it (right's last, 46.1 ms) */
+	write_frame(f, 2 * 20000 + 5000 + 100,
+		    &(struct canfd_frame){ .can_id = 0x123, .len = 2, .data = { 1, 2 } }, false);
+	back_line = ++lines;
+	assert_int_equal(fclose(f), 0);
+
+	assert_int_equal(hl_ring_new(64, 2, N_SOURCES, &ring), 0);
+	assert_int_equal(hl_snapshot_new(ring, &s), 0);
+	cfg.log = fopen(msg_path, "w+");
+	assert_non_null(cfg.log);
+	assert_int_equal(hl_can_input_new(&cfg, a, ring, &in), 0);
+	assert_int_equal(hl_can_input_start(in), 0);
+	do
+		next_snapshot(ring, hl_can_input_wake_fd(in), s);
+	while (!(s->status & HL_INPUT_DONE));
+	hl_can_input_stop(in);
+
+	hl_can_input_status(in, &st);
+	assert_int_equal(st.log.passes, 2);
+	assert_int_equal(st.log.lines, 2 * lines);
+	assert_int_equal(st.log.malformed, 2);
+	assert_int_equal(st.log.backwards, 2);
+	assert_int_equal(st.frames.dbc.unknown_id, 2); /* replayed, not dropped */
+	for (int l = 0; l < 2; l++) {
+		assert_int_equal(st.lamps[l].cycles, 6);
+		assert_int_equal(st.lamps[l].lost_cycles, 0);
+		assert_int_equal(st.lamps[l].repeated_frames, 0);
+		assert_int_equal(st.lamps[l].incomplete, 0);
+	}
+	/* the same lines of the file in both passes */
+	rewind(cfg.log);
+	for (int pass = 0; pass < 2; pass++) {
+		assert_non_null(fgets(text, sizeof(text), cfg.log));
+		snprintf(want, sizeof(want),
+			 "hdlampd: '%s':2:26: malformed candump line: ", log_path);
+		assert_memory_equal(text, want, strlen(want));
+		assert_non_null(fgets(text, sizeof(text), cfg.log));
+		snprintf(want, sizeof(want),
+			 "hdlampd: '%s':%d:1: timestamp 1700000000.045100 is 1000 us before the "
+			 "previous frame's; expected times that never decrease (replayed at the "
+			 "previous frame's time)\n",
+			 log_path, back_line);
+		assert_string_equal(text, want);
+	}
+	assert_null(fgets(text, sizeof(text), cfg.log));
 
 	hl_can_input_free(in);
 	fclose(cfg.log);
@@ -389,6 +479,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(can_input_replay_pushes_exact_cycles_and_stale_events),
+		cmocka_unit_test(can_input_loop_passes_with_lines_per_pass),
 		cmocka_unit_test(can_input_filters_every_lamp_message_of_hd84),
 		cmocka_unit_test(can_input_filters_more_than_64_messages),
 	};

@@ -9,6 +9,8 @@
 #include <cmocka.h>
 
 #include "daemon/config.h"
+#include "render/scene.h"
+#include "render/view.h"
 #include "testutil.h"
 
 static const char *write_file(char *path, size_t size, const char *name, const char *text)
@@ -82,8 +84,8 @@ static void config_errors_name_file_line_and_key(void **state)
 	write_file(path, sizeof(path), "bad.conf",
 		   "[can]\ninterface = can0\n\n[render]\nsize = 640by360\n");
 	assert_int_equal(hl_config_load(&c, path, &err), -EINVAL);
-	snprintf(want, sizeof(want), "'%s':5: key 'render.size': expected WxH, each 16..8192",
-		 path);
+	snprintf(want, sizeof(want),
+		 "'%s':5: key 'render.size': '640by360': expected WxH, each 16..8192", path);
 	assert_string_equal(err.msg, want);
 
 	write_file(path, sizeof(path), "bad.conf", "[can]\ntimeout_ms = 0\n");
@@ -95,7 +97,8 @@ static void config_errors_name_file_line_and_key(void **state)
 	write_file(path, sizeof(path), "bad.conf", "[gpio]\nchip = gpiochip0\nstrobbe = 3\n");
 	assert_int_equal(hl_config_load(&c, path, &err), -EINVAL);
 	snprintf(want, sizeof(want),
-		 "'%s':3: key 'gpio.strobbe': unknown key (see hdlampd --help-config)", path);
+		 "'%s':3: key 'gpio.strobbe': unknown key (hdlampd --print-config lists every key)",
+		 path);
 	assert_string_equal(err.msg, want);
 
 	write_file(path, sizeof(path), "bad.conf", "[lamps\nleft = x\n");
@@ -110,8 +113,8 @@ static void config_errors_name_file_line_and_key(void **state)
 	assert_string_equal(err.msg, "command line: 'render.view': expected SECTION.KEY=VALUE");
 	assert_int_equal(hl_config_set_arg(&c, "lamps.failsafe=bright", "command line", &err),
 			 -EINVAL);
-	assert_string_equal(
-		err.msg, "command line: key 'lamps.failsafe': expected hold, dark or preset:NAME");
+	assert_string_equal(err.msg, "command line: key 'lamps.failsafe': 'bright': expected hold, "
+				     "dark or preset:NAME (NAME.json in lamps.presets)");
 	assert_int_equal(hl_config_set_arg(&c, "render.combine=vulkan", "command line", &err),
 			 -EINVAL);
 	assert_int_equal(hl_config_set_arg(&c, "http.capture=maybe", "command line", &err),
@@ -134,6 +137,17 @@ static void config_check_wants_exactly_one_input(void **state)
 	c.replay_loop = true;
 	assert_int_equal(hl_config_check(&c, &err), -EINVAL);
 	assert_string_equal(err.msg, "can.replay_fast and can.replay_loop need can.replay");
+	c.interface[0] = '\0';
+	strcpy(c.replay, "-");
+	assert_int_equal(hl_config_check(&c, &err), -EINVAL);
+	assert_string_equal(
+		err.msg, "can.replay_loop needs a file: standard input cannot be replayed again");
+	c.replay_loop = false;
+	c.replay_passes = 2;
+	assert_int_equal(hl_config_check(&c, &err), -EINVAL);
+	assert_string_equal(err.msg, "can.replay_passes needs can.replay_loop");
+	c.replay_passes = 0;
+	assert_int_equal(hl_config_check(&c, &err), 0);
 }
 
 static void config_verdict_and_road_keys(void **state)
@@ -206,7 +220,7 @@ static void config_verdict_and_road_keys(void **state)
 	assert_string_equal(c.verdict_modes, "low:a+b,high:c,off:");
 	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=low", "command line", &err), -EINVAL);
 	assert_string_equal(err.msg,
-			    "command line: key 'verdict.modes': expected MODE:ID+ID,MODE:ID,"
+			    "command line: key 'verdict.modes': 'low': expected MODE:ID+ID,MODE:ID,"
 			    "... (a mode's sets joined by +, no spaces)");
 	assert_int_equal(hl_config_set_arg(&c, "verdict.modes=low:a,", "command line", &err),
 			 -EINVAL);
@@ -216,7 +230,8 @@ static void config_verdict_and_road_keys(void **state)
 	assert_string_equal(c.verdict_modes, "low:a+b,high:c,off:");
 	assert_int_equal(hl_config_set_arg(&c, "verdict.traffic=centre", "command line", &err),
 			 -EINVAL);
-	assert_string_equal(err.msg, "command line: key 'verdict.traffic': expected right or left");
+	assert_string_equal(
+		err.msg, "command line: key 'verdict.traffic': 'centre': expected right or left");
 	write_file(path, sizeof(path), "bad.conf", "[road]\nlevels = 1\n");
 	assert_int_equal(hl_config_load(&c, path, &err), -EINVAL);
 	snprintf(want, sizeof(want),
@@ -232,6 +247,243 @@ static void config_verdict_and_road_keys(void **state)
 	assert_true(c.road_levels_lx[0] == 0.5 && c.road_levels_lx[1] == 2.0);
 }
 
+/* Every value is checked whole when it is set: syntax and range, with the value in the message. */
+static void config_every_value_is_checked_when_set(void **state)
+{
+	static const struct {
+		const char *arg, *msg;
+	} bad[] = {
+		{ "render.view=foo", "key 'render.view': 'foo': expected display, lux or hdr" },
+		{ "render.view=lid", "key 'render.view': 'lid': expected display, lux or hdr" },
+		{ "render.view=", "key 'render.view': '': expected display, lux or hdr" },
+		{ "render.scene=moon",
+		  "key 'render.scene': 'moon': expected sphere, wall, road, bird or bounce" },
+		{ "render.combine=vulkan",
+		  "key 'render.combine': 'vulkan': expected auto, cpu or gles" },
+		{ "render.headlight=gl",
+		  "key 'render.headlight': 'gl': expected auto, cpu or gles" },
+		{ "gpio.trigger_edge=up",
+		  "key 'gpio.trigger_edge': 'up': expected rising, falling or both" },
+		{ "http.listen=999.1.1.1:80",
+		  "key 'http.listen': '999.1.1.1:80': host '999.1.1.1': expected an IPv4 address, "
+		  "[IPv6 address] or localhost" },
+		{ "http.listen=127.0.0.1:99999",
+		  "key 'http.listen': '127.0.0.1:99999': port '99999': expected 0..65535 (0 = any "
+		  "free port)" },
+		{ "http.listen=127.0.0.1:-1",
+		  "key 'http.listen': '127.0.0.1:-1': port '-1': expected 0..65535 (0 = any free "
+		  "port)" },
+		{ "http.listen=127.0.0.1:",
+		  "key 'http.listen': '127.0.0.1:': port '': expected 0..65535 (0 = any free port)" },
+		{ "http.listen=8080",
+		  "key 'http.listen': '8080': expected HOST:PORT (an IPv4 address, [IPv6] or "
+		  "localhost; port 0..65535, 0 = any free port), or empty for off" },
+		{ "stream.tcp=:0",
+		  "key 'stream.tcp': ':0': expected HOST:PORT (an IPv4 address, [IPv6] or "
+		  "localhost; port 0..65535, 0 = any free port), or empty for off" },
+		{ "stream.tcp=example.org:5600",
+		  "key 'stream.tcp': 'example.org:5600': host 'example.org': expected an IPv4 "
+		  "address, [IPv6 address] or localhost" },
+		{ "stream.tcp=::1:5600",
+		  "key 'stream.tcp': '::1:5600': host '::1': expected an IPv4 address, [IPv6 "
+		  "address] or localhost" },
+		{ "can.interface=can 0",
+		  "key 'can.interface': 'can 0': expected an interface name (1..15 characters, no "
+		  "'/', ':' or spaces), or empty" },
+		{ "can.interface=abcdefghijklmnop",
+		  "key 'can.interface': 'abcdefghijklmnop': expected an interface name (1..15 "
+		  "characters, no '/', ':' or spaces), or empty" },
+		{ "can.lamps=left,,right",
+		  "key 'can.lamps': 'left,,right': expected 1..8 lamp names (letters, digits, _ -) "
+		  "separated by commas, such as left,right" },
+		{ "can.lamps=",
+		  "key 'can.lamps': '': expected 1..8 lamp names (letters, digits, _ -) separated by "
+		  "commas, such as left,right" },
+		{ "can.lamps=a,b,c,d,e,f,g,h,i",
+		  "key 'can.lamps': 'a,b,c,d,e,f,g,h,i': expected 1..8 lamp names (letters, digits, "
+		  "_ -) separated by commas, such as left,right" },
+		{ "can.timeout_ms=99999999999999999999",
+		  "key 'can.timeout_ms': '99999999999999999999': expected an integer 1..60000" },
+		{ "can.replay_passes=-1",
+		  "key 'can.replay_passes': '-1': expected an integer 0..1000000" },
+		{ "render.size=640x0", "key 'render.size': '640x0': expected WxH, each 16..8192" },
+		{ "render.size=640x360x2",
+		  "key 'render.size': '640x360x2': expected WxH, each 16..8192" },
+		{ "render.size=-640x360",
+		  "key 'render.size': '-640x360': expected WxH, each 16..8192" },
+		{ "render.exposure_ev=nan",
+		  "key 'render.exposure_ev': 'nan': expected a number -20..20" },
+		{ "stream.max_clients=0",
+		  "key 'stream.max_clients': '0': expected an integer 1..64" },
+		{ "lamps.failsafe=preset:../low",
+		  "key 'lamps.failsafe': 'preset:../low': expected hold, dark or preset:NAME (NAME.json "
+		  "in lamps.presets)" },
+		{ "stream.raw=2", "key 'stream.raw': '2': expected true or false" },
+	};
+	static const char *const good[] = {
+		"stream.tcp=localhost:5600", "stream.tcp=127.0.0.1:0",
+		"stream.tcp=[::1]:0",	     "stream.tcp=",
+		"http.listen=0.0.0.0:65535", "http.listen=localhost:0",
+		"can.interface=vcan0",	     "can.lamps=left",
+		"can.replay_passes=3",
+	};
+	struct hl_config c;
+	struct hl_config_error err;
+	char want[600];
+	(void)state;
+
+	hl_config_defaults(&c);
+	for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+		if (hl_config_set_arg(&c, bad[i].arg, "--set x", &err) != -EINVAL)
+			fail_msg("'%s' was taken", bad[i].arg);
+		snprintf(want, sizeof(want), "--set x: %s", bad[i].msg);
+		assert_string_equal(err.msg, want);
+	}
+	/* nothing of the refused values went in */
+	assert_string_equal(c.view, "display");
+	assert_string_equal(c.http_listen, "127.0.0.1:8080");
+	assert_string_equal(c.lamps, "left,right");
+	assert_int_equal(c.width, 1280);
+	for (size_t i = 0; i < sizeof(good) / sizeof(good[0]); i++)
+		if (hl_config_set_arg(&c, good[i], "--set x", &err) != 0)
+			fail_msg("'%s' refused: %s", good[i], err.msg);
+	assert_string_equal(c.http_listen, "localhost:0");
+	assert_int_equal(c.replay_passes, 3);
+}
+
+/* The names config.c takes are the renderer's (minus the LID view, no frame format). */
+static void config_scene_and_view_names_are_the_renderers(void **state)
+{
+	static const char *const scenes[] = { "sphere", "wall", "road", "bird", "bounce" };
+	static const char *const views[] = { "display", "lux", "hdr" };
+	struct hl_config c;
+	struct hl_config_error err;
+	char arg[64];
+	(void)state;
+
+	hl_config_defaults(&c);
+	for (size_t i = 0; i < sizeof(scenes) / sizeof(scenes[0]); i++) {
+		snprintf(arg, sizeof(arg), "render.scene=%s", scenes[i]);
+		assert_int_equal(hl_config_set_arg(&c, arg, "--set", &err), 0);
+		assert_true(hl_scene_from_name(c.scene) >= 0);
+	}
+	for (int k = 0; k < 8; k++) /* every scene the renderer has is taken */
+		if (hl_scene_name(k) && hl_scene_from_name(hl_scene_name(k)) == k) {
+			snprintf(arg, sizeof(arg), "render.scene=%s", hl_scene_name(k));
+			assert_int_equal(hl_config_set_arg(&c, arg, "--set", &err), 0);
+		}
+	for (size_t i = 0; i < sizeof(views) / sizeof(views[0]); i++) {
+		snprintf(arg, sizeof(arg), "render.view=%s", views[i]);
+		assert_int_equal(hl_config_set_arg(&c, arg, "--set", &err), 0);
+		assert_true(hl_view_from_name(c.view) >= 0 &&
+			    hl_view_from_name(c.view) != HL_VIEW_LID);
+	}
+}
+
+/* A key set twice in the file: a warning naming both lines; the last value counts. */
+static void config_duplicate_key_warns_with_both_lines(void **state)
+{
+	struct hl_config c;
+	struct hl_config_error err;
+	char path[512], want[700];
+	(void)state;
+
+	hl_config_defaults(&c);
+	write_file(path, sizeof(path), "dup.conf",
+		   "[render]\nview = lux\n; a comment\n[can]\ntimeout_ms = 50\n[render]\n"
+		   "view = hdr\nsize = 160x90\nview=display\n");
+	assert_int_equal(hl_config_load(&c, path, &err), 0);
+	assert_string_equal(c.view, "display");
+	assert_int_equal(err.n_warnings, 2);
+	snprintf(want, sizeof(want),
+		 "'%s':7: warning: key 'render.view' set again (first at line 2); the last value "
+		 "counts",
+		 path);
+	assert_string_equal(err.warnings[0], want);
+	snprintf(want, sizeof(want),
+		 "'%s':9: warning: key 'render.view' set again (first at line 2); the last value "
+		 "counts",
+		 path);
+	assert_string_equal(err.warnings[1], want);
+	write_file(path, sizeof(path), "dup.conf", "[can]\ntimeout_ms = 50\n");
+	assert_int_equal(hl_config_load(&c, path, &err), 0);
+	assert_int_equal(err.n_warnings, 0);
+	/* a file saved with a UTF-8 byte order mark: inih skips it, and so do the line numbers */
+	write_file(path, sizeof(path), "dup.conf", "\xEF\xBB\xBF[render]\nview = lux\nview = 3d\n");
+	assert_int_equal(hl_config_load(&c, path, &err), -EINVAL);
+	snprintf(want, sizeof(want),
+		 "'%s':3: key 'render.view': '3d': expected display, lux or hdr", path);
+	assert_string_equal(err.msg, want);
+	assert_int_equal(err.n_warnings, 1);
+	unlink(path);
+}
+
+/* The files the keys name, checked once everything is set, named with where they were set. */
+static void config_check_files_names_where_each_was_set(void **state)
+{
+	struct hl_config c;
+	struct hl_config_error err;
+	char path[512], log[512], dbc[512], conf[1400], want[1400];
+	(void)state;
+
+	hl_config_defaults(&c);
+	snprintf(dbc, sizeof(dbc), "%s/dbc/hd84.dbc", getenv("HL_SOURCE_DIR"));
+	write_file(log, sizeof(log), "files.log", "# nothing\n\n");
+	snprintf(conf, sizeof(conf), "[can]\nreplay = %s\n\ndbc = %s\n", log, dbc);
+	write_file(path, sizeof(path), "files.conf", conf);
+	assert_int_equal(hl_config_load(&c, path, &err), 0);
+	assert_int_equal(hl_config_check(&c, &err), 0);
+	assert_int_equal(hl_config_check_files(&c, false, &err), -EINVAL);
+	snprintf(want, sizeof(want),
+		 "'%s':2: key 'can.replay': '%s': no CAN frame in it; expected candump -L lines "
+		 "such as '(1700000000.000000) can0 123#11223344'",
+		 path, log);
+	assert_string_equal(err.msg, want);
+
+	write_file(log, sizeof(log), "files.log",
+		   "(1700000000.000000) can0 320#96008292B5FFFFFF\n");
+	assert_int_equal(hl_config_check_files(&c, false, &err), 0); /* decoding needs no lamps */
+	assert_int_equal(hl_config_check_files(&c, true, &err), -EINVAL);
+	assert_string_equal(err.msg,
+			    "key 'lamps.left' (default): no LID file configured for lamp 1 "
+			    "of can.lamps (make one with 'hdlamp model --out DIR')");
+	assert_int_equal(hl_config_set_arg(&c, "lamps.left=/nonexistent/l.lid.exr",
+					   "--set lamps.left=/nonexistent/l.lid.exr", &err),
+			 0);
+	assert_int_equal(hl_config_check_files(&c, true, &err), -EINVAL);
+	assert_string_equal(err.msg,
+			    "--set lamps.left=/nonexistent/l.lid.exr: key 'lamps.left': "
+			    "'/nonexistent/l.lid.exr': No such file or directory; expected "
+			    "a LID file (.lid.exr)");
+	/* the LID files are there (any readable file passes here), the preset is not */
+	assert_int_equal(hl_config_set_arg(&c, "lamps.left=/dev/null", "--set", &err), 0);
+	assert_int_equal(hl_config_check_files(&c, true, &err), -EINVAL);
+	assert_string_equal(err.msg, "key 'lamps.right' (default): no LID file configured for lamp "
+				     "2 of can.lamps (make one with 'hdlamp model --out DIR')");
+	assert_int_equal(hl_config_set_arg(&c, "lamps.right=/dev/null", "--set", &err), 0);
+	assert_int_equal(hl_config_check_files(&c, true, &err), 0);
+	assert_int_equal(hl_config_set_arg(&c, "lamps.presets=/nonexistent", "--set", &err), 0);
+	assert_int_equal(hl_config_set_arg(&c, "lamps.failsafe=preset:low", "-p", &err), 0);
+	assert_int_equal(hl_config_check_files(&c, true, &err), -EINVAL);
+	assert_string_equal(err.msg, "-p: key 'lamps.failsafe': '/nonexistent/low.json': No such "
+				     "file or directory; expected the preset NAME.json in the "
+				     "directory lamps.presets");
+	assert_int_equal(hl_config_set_arg(&c, "lamps.failsafe=dark", "--set", &err), 0);
+	assert_int_equal(hl_config_set_arg(&c, "stream.unix=/nonexistent/f.sock", "-u", &err), 0);
+	assert_int_equal(hl_config_check_files(&c, true, &err), -EINVAL);
+	assert_string_equal(err.msg, "-u: key 'stream.unix': '/nonexistent': No such file or "
+				     "directory; expected the directory of the socket to exist");
+	assert_int_equal(hl_config_set_arg(&c, "can.lamps=a,b,c", "-l", &err), 0);
+	assert_int_equal(hl_config_check_files(&c, true, &err), -EINVAL);
+	assert_string_equal(err.msg, "-l: key 'can.lamps': 'a,b,c': the renderer takes one or two "
+				     "lamps");
+	assert_int_equal(hl_config_set_arg(&c, "can.dbc=/tmp", "-d", &err), 0);
+	assert_int_equal(hl_config_check_files(&c, false, &err), -EINVAL);
+	assert_string_equal(err.msg, "-d: key 'can.dbc': '/tmp': a directory; expected a DBC file");
+	unlink(log);
+	unlink(path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -240,6 +492,10 @@ int main(void)
 		cmocka_unit_test(config_errors_name_file_line_and_key),
 		cmocka_unit_test(config_check_wants_exactly_one_input),
 		cmocka_unit_test(config_verdict_and_road_keys),
+		cmocka_unit_test(config_every_value_is_checked_when_set),
+		cmocka_unit_test(config_scene_and_view_names_are_the_renderers),
+		cmocka_unit_test(config_duplicate_key_warns_with_both_lines),
+		cmocka_unit_test(config_check_files_names_where_each_was_set),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
