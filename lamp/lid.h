@@ -99,6 +99,7 @@ float hl_lid_grid_lookup(const struct hl_lid_grid *grid, const float *dense, flo
  * (inconsistent grid attributes), -ENOMEM. err (optional) says what and where.
  */
 int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err);
+/* Write returns 0, -ENOMEM, the failed open or write's -errno (-ENOSPC, -EFBIG, ...) or -EIO. */
 int hl_lid_write(const struct hl_lid *lid, const char *path, struct hl_lid_error *err);
 
 /* Writes one dense distribution as a combined LID file (channel "I"). */
