@@ -205,27 +205,30 @@ def test_parallel_captures_are_bounded_unique_complete_and_hold_no_frame(lamps, 
     assert m == {'result="written"': written, 'result="failed"': 0, 'result="refused"': refused}
 
 
-def test_sigusr1_captures_of_the_same_moment_get_their_own_directories(lamps, drive, tmp_path):
-    """Two SIGUSR1 back to back go through the queue: two directories, even when both show the
-    same frame (then the second is named frame-N-2)."""
+def test_sigusr1_and_post_share_the_queue_and_get_their_own_directories(lamps, drive, tmp_path):
+    """SIGUSR1 and POST /capture at the same moment go through the one queue: two directories,
+    even when both show the same frame (then the second is frame-N-2). (Two SIGUSR1 back to back
+    would be one: the kernel keeps one pending signal of a kind.)"""
     cap = tmp_path / "captures"
     d = Daemon(lamps, drive, cap)
     try:
         d.wait_published(10)
         d.p.send_signal(signal.SIGUSR1)
-        d.p.send_signal(signal.SIGUSR1)
+        code, body = d.request("/capture", method="POST")
+        assert code == 200, body
         until = time.monotonic() + 60
         while (st := d.status())["captures"] + st["captures_failed"] < 2:
-            assert time.monotonic() < until, "the captures were not written"
+            assert time.monotonic() < until, "the SIGUSR1 capture was not written"
             time.sleep(0.05)
     finally:
         d.stop()
     assert (st["captures"], st["captures_failed"], st["captures_refused"]) == (2, 0, 0)
     dirs = sorted(cap.iterdir())
-    assert len(dirs) == 2
+    assert len(dirs) == 2 and json.loads(body)["path"] in map(str, dirs)
     seqs = [check_complete(x) for x in dirs]
     if seqs[0] == seqs[1]:
         assert [x.name for x in dirs] == [f"frame-{seqs[0]:08d}", f"frame-{seqs[0]:08d}-2"]
+    print(f"frames captured: {seqs}")
     assert sum("capture written to" in line for line in d.log) == 2
 
 
@@ -280,10 +283,11 @@ def test_capture_on_a_full_disk_leaves_nothing(lamps, drive, tmp_path):
 
 
 def test_capture_over_the_file_size_limit_leaves_nothing(lamps, drive, tmp_path):
-    """The same with a limit any user can set: hdlampd under RLIMIT_FSIZE = 16 KiB (prlimit), so
-    hdr.exr is refused with EFBIG (and SIGXFSZ must not kill the daemon); the limit is lifted
-    with prlimit --pid."""
+    """The same with a limit any user can set: hdlampd under a soft RLIMIT_FSIZE of 16 KiB
+    (prlimit), so hdr.exr is refused with EFBIG (and SIGXFSZ must not kill the daemon); the soft
+    limit is lifted to the hard one (unlimited) with prlimit --pid."""
     cap = tmp_path / "captures"
     cap.mkdir()
-    full_disk_case(lamps, drive, cap, ("prlimit", "--fsize=16384", "--"), "File too large",
-                   lambda d: run("prlimit", "--pid", d.p.pid, "--fsize=unlimited"))
+    full_disk_case(lamps, drive, cap, ("prlimit", "--fsize=16384:unlimited", "--"),
+                   "File too large",
+                   lambda d: run("prlimit", "--pid", d.p.pid, "--fsize=unlimited:unlimited"))
