@@ -242,6 +242,7 @@ def full_disk_case(lamps, drive, cap, prefix, reason, make_room):
         code, body = d.request("/capture", method="POST")
         assert code == 507, (code, body)
         err = json.loads(body)["error"]
+        print(f"{code}: {err}")
         assert reason in err, err
         # the file that failed, inside the capture's temporary directory
         assert re.search(rf"'{re.escape(str(cap))}/\.tmp-frame-\d{{8}}[^/']*/[a-z.]+'", err), err
@@ -266,7 +267,8 @@ def full_disk_case(lamps, drive, cap, prefix, reason, make_room):
 def test_capture_on_a_full_disk_leaves_nothing(lamps, drive, tmp_path):
     """A full disk for real: the capture directory on a 16 KiB tmpfs (we run as root in the
     sandbox and CI; where mount is not allowed the test skips and the RLIMIT_FSIZE test below
-    still runs). verdict.json fits, hdr.exr does not: ENOSPC. Room comes back with a remount."""
+    still runs). A capture at 160x90 does not fit (in one run hdr.exr did, lux.exr ran out:
+    ENOSPC). Room comes back with a remount."""
     mnt = tmp_path / "mnt"
     mnt.mkdir()
     r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", str(mnt)],
