@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Captures: the newest published frame written to a new directory under the capture
- * directory: hdr.exr (linear luminance RGBA), lux.exr (illuminance E), and each lamp's combined
+ * Captures: a frame written to a new directory under the capture directory: hdr.exr (linear luminance RGBA), lux.exr (illuminance E), and each lamp's combined
  * distribution (<lamp>.lid.exr, channel I, cd). hdr.exr and lux.exr carry the frame's metadata
  * as string attributes: hdlamp:frameSeq, hdlamp:cycleSeq, hdlamp:counter, hdlamp:flags,
  * hdlamp:tCycleRxNs, hdlamp:tCycleDoneNs, hdlamp:tRenderDoneNs and hdlamp:dims.<lamp> (the raw
@@ -9,8 +8,13 @@
  * verdict.json in the same directory, and the same JSON text into the EXR attribute
  * hdlamp:verdict.
  *
- * Thread-safety: any thread; captures are serialised by the caller (they are rare).
- * Allocates (not the hot path).
+ * The directory is written under a temporary name, .tmp-frame-NNNNNNNN-PID, every file synced,
+ * then renamed to frame-NNNNNNNN (the frame's sequence number), or frame-NNNNNNNN-2, -3, ... when
+ * that frame was captured before: a reader never sees a half-written capture, and a capture
+ * never replaces another. A capture that fails is removed entirely.
+ *
+ * Thread-safety: any thread, one capture at a time per directory (daemon/capture_queue.h has
+ * the daemon's one writer). Allocates (not the hot path).
  */
 #ifndef HL_DAEMON_CAPTURE_H
 #define HL_DAEMON_CAPTURE_H
@@ -32,7 +36,14 @@ struct hl_capture_scene {
 	const struct hl_verdicts *verdicts; /* NULL: no verdict.json */
 };
 
-/* Writes f; ret_path gets the directory. 0 or -errno (err says what failed). */
+#define HL_CAPTURE_MAX_SAME_FRAME 1000 /* captures of one frame sequence number in a directory */
+
+/*
+ * Writes f (its pixels are not needed: hdr.exr is made from the G-buffer and the illuminance);
+ * ret_path gets the directory. 0, or -errno of what failed (-ENOSPC, -EFBIG, -EACCES, ...,
+ * -EEXIST: HL_CAPTURE_MAX_SAME_FRAME captures of the frame exist) and err names the file and
+ * the reason.
+ */
 int hl_capture_write(const char *dir, const struct hl_frame *f, const struct hl_capture_scene *sc,
 		     char *ret_path, size_t path_size, char *err, size_t err_size);
 

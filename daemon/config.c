@@ -100,6 +100,8 @@ static const struct key keys[] = {
 	  "HOST:PORT of the HTTP live view (port 0: any free one), empty = off", NULL },
 	{ "http", "capture", BOOL, F(http_capture), 0, 0, "allow POST /capture", NULL },
 	{ "capture", "dir", PATH, F(capture_dir), 0, 0, "where captures are written", NULL },
+	{ "capture", "queue", INT, F(capture_queue), 1, 16,
+	  "captures waiting or being written at once; more are refused", NULL },
 	{ "gpio", "chip", PATH, F(gpio_chip), 0, 0, "GPIO chip name or path, empty = no GPIO",
 	  NULL },
 	{ "gpio", "strobe", STRING, F(gpio_strobe), 0, 0, "output line toggled per published frame",
@@ -148,6 +150,7 @@ void hl_config_defaults(struct hl_config *c)
 	c->stream_max_clients = 8;
 	strcpy(c->http_listen, "127.0.0.1:8080");
 	strcpy(c->capture_dir, "captures");
+	c->capture_queue = 4;
 	strcpy(c->gpio_trigger_edge, "rising");
 	/* the sets beside the binary (lamp/regulation.h): /usr/bin/hdlampd ->
 	 * /usr/share/hdlamp/regulations, and the build tree's own link */

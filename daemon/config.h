@@ -70,6 +70,7 @@ struct hl_config {
 	bool http_capture; /* allow POST /capture */
 	/* [capture] */
 	char capture_dir[HL_CONFIG_PATH];
+	int capture_queue; /* captures waiting or being written at once (daemon/capture_queue.h) */
 	/* [gpio] */
 	char gpio_chip[HL_CONFIG_PATH]; /* name (gpiochip0) or path; "" = no GPIO */
 	char gpio_strobe[HL_CONFIG_NAME]; /* line name or offset; "" = none */

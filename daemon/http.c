@@ -332,6 +332,7 @@ static void json_escape(const char *s, char *out)
 static enum MHD_Result post_capture(struct hl_http *h, struct MHD_Connection *c)
 {
 	char path[CAPTURE_PATH_MAX] = "";
+	unsigned int status = MHD_HTTP_OK;
 	char *body;
 	int rc;
 
@@ -339,19 +340,23 @@ static enum MHD_Result post_capture(struct hl_http *h, struct MHD_Connection *c)
 		return respond_error(h, c, MHD_HTTP_FORBIDDEN,
 				     "captures are disabled (config: http.capture = false)");
 	rc = h->src.capture(h->src.userdata, path, sizeof(path));
-	if (rc == -EBUSY)
-		return respond_error(h, c, MHD_HTTP_SERVICE_UNAVAILABLE, "a capture is running");
-	if (rc < 0)
-		return respond_error(h, c, MHD_HTTP_INTERNAL_SERVER_ERROR, "capture failed");
 	path[sizeof(path) - 1] = '\0';
+	if (rc == -EBUSY || rc == -EAGAIN || rc == -ESHUTDOWN)
+		status = MHD_HTTP_SERVICE_UNAVAILABLE;
+	else if (rc == -ETIMEDOUT)
+		status = MHD_HTTP_GATEWAY_TIMEOUT;
+	else if (rc == -ENOSPC || rc == -EDQUOT || rc == -EFBIG)
+		status = MHD_HTTP_INSUFFICIENT_STORAGE;
+	else if (rc < 0)
+		status = MHD_HTTP_INTERNAL_SERVER_ERROR;
+	/* {"path": the directory} or {"error": why, naming the file}; path is the callback's text */
 	body = malloc(strlen(path) * 6 + 16);
 	if (!body)
 		return respond_error(h, c, MHD_HTTP_INTERNAL_SERVER_ERROR, "out of memory");
-	strcpy(body, "{\"path\":\"");
+	strcpy(body, rc < 0 ? "{\"error\":\"" : "{\"path\":\"");
 	json_escape(path, body + strlen(body));
 	strcat(body, "\"}\n");
-	return respond(h, c, MHD_HTTP_OK, "application/json", body, strlen(body),
-		       MHD_RESPMEM_MUST_FREE);
+	return respond(h, c, status, "application/json", body, strlen(body), MHD_RESPMEM_MUST_FREE);
 }
 
 /* --- the MJPEG stream --- */

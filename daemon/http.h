@@ -54,7 +54,8 @@ struct hl_http_sources {
 	int (*metrics)(void *userdata, char *buf, size_t size);
 	/*
 	 * Write a capture now: 0 and the directory or file written, NUL-terminated, in path; or
-	 * -errno (-EBUSY: answered 503, others 500). NULL: captures are off (403).
+	 * -errno and why in path (answered as {"error": path}): -EBUSY, -EAGAIN, -ESHUTDOWN 503;
+	 * -ETIMEDOUT 504; -ENOSPC, -EDQUOT, -EFBIG 507; others 500. NULL: captures are off (403).
 	 */
 	int (*capture)(void *userdata, char *path, size_t size);
 };

@@ -20,7 +20,7 @@
 
 #include "can/socket.h"
 #include "daemon/can_input.h"
-#include "daemon/capture.h"
+#include "daemon/capture_queue.h"
 #include "daemon/clock.h"
 #include "daemon/frame_pool.h"
 #include "daemon/gpio.h"
@@ -142,10 +142,10 @@ struct live {
 	struct hl_verdicts *verdicts; /* the regulation sets and road KPIs per frame */
 	bool config_error; /* setup failed on the configuration: exit 2 */
 	struct hl_http *http;
+	struct hl_capture_queue *captures; /* the one capture writer */
 	struct hl_frame_exr_info exr_info; /* camera and lamp poses for /frame.exr */
 	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
 	int64_t watchdog_last_ns; /* render thread's */
-	pthread_mutex_t capture_lock; /* one capture at a time */
 };
 
 static void log_msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -234,43 +234,9 @@ static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources
 	return 0;
 }
 
-/* Writes a capture of the newest frame (any thread). */
-static int capture(struct live *lv, char *path, size_t size)
-{
-	struct hl_capture_scene sc = {
-		.gb = hl_pipeline_gbuffer(lv->pipe),
-		.cam = hl_pipeline_camera(lv->pipe),
-		.n_lamps = lv->n_lamps,
-		.verdicts = lv->verdicts,
-	};
-	struct hl_frame *f;
-	char err[512];
-	int rc;
-
-	for (int l = 0; l < lv->n_lamps; l++) {
-		sc.lamp_names[l] = lv->lamp_names[l];
-		sc.grids[l] = hl_lid_grid(lv->lids[l]);
-	}
-	f = hl_frame_pool_get(lv->pool, 0, 1000);
-	if (!f) {
-		log_msg("capture: no frame rendered yet");
-		return -EAGAIN;
-	}
-	pthread_mutex_lock(&lv->capture_lock);
-	rc = hl_capture_write(lv->cfg.capture_dir, f, &sc, path, size, err, sizeof(err));
-	pthread_mutex_unlock(&lv->capture_lock);
-	hl_status_captured(lv->status, rc >= 0);
-	hl_frame_pool_release(lv->pool, f);
-	if (rc < 0)
-		log_msg("capture failed: %s", err);
-	else
-		log_msg("capture written to '%s'", path);
-	return rc;
-}
-
 /*
  * HTTP callbacks, on the server's threads: the status locks what it reads (daemon/status.h);
- * captures are serialised by capture_lock.
+ * captures go through the queue and wait for their result.
  */
 static int http_status(void *ud, char *buf, size_t size)
 {
@@ -284,7 +250,8 @@ static int http_metrics(void *ud, char *buf, size_t size)
 
 static int http_capture(void *ud, char *path, size_t size)
 {
-	return capture(ud, path, size);
+	return hl_capture_queue_submit(((struct live *)ud)->captures, HL_CAPTURE_WAIT_MS, path,
+				       size);
 }
 
 /* SIGHUP: re-read the configuration; the CAN thread runs on, so no cycle is lost. */
@@ -504,9 +471,28 @@ static int setup_outputs(struct live *lv)
 		.gpio = lv->gpio,
 		.verdicts = lv->verdicts,
 	};
+	struct hl_capture_queue_config cq = {
+		.dir = lv->cfg.capture_dir,
+		.slots = lv->cfg.capture_queue,
+		.pool = lv->pool,
+		.scene = { .gb = hl_pipeline_gbuffer(lv->pipe),
+			   .cam = hl_pipeline_camera(lv->pipe),
+			   .n_lamps = lv->n_lamps,
+			   .verdicts = lv->verdicts },
+		.log = stderr,
+	};
 	char err[512];
 	int rc;
 
+	for (int l = 0; l < lv->n_lamps; l++) {
+		cq.scene.lamp_names[l] = lv->lamp_names[l];
+		cq.scene.grids[l] = hl_lid_grid(lv->lids[l]);
+	}
+	rc = hl_capture_queue_new(&cq, &lv->captures);
+	if (rc < 0 || (rc = hl_capture_queue_start(lv->captures)) < 0) {
+		log_msg("captures: %s", strerror(-rc));
+		return rc;
+	}
 	if (lv->cfg.stream_tcp[0] || lv->cfg.stream_unix[0]) {
 		rc = hl_stream_new(lv->cfg.stream_tcp, lv->cfg.stream_unix, lv->cfg.stream_raw,
 				   lv->cfg.stream_max_clients, lv->pool, &lv->stream, err,
@@ -522,6 +508,7 @@ static int setup_outputs(struct live *lv)
 			hl_stream_tcp_port(lv->stream));
 	}
 	ss.stream = lv->stream;
+	ss.captures = lv->captures;
 	rc = hl_status_new(&ss, lv->cfg.failsafe, &lv->status);
 	if (rc < 0)
 		return rc;
@@ -609,6 +596,7 @@ static void teardown(struct live *lv)
 	if (lv->pool)
 		hl_frame_pool_close(lv->pool);
 	hl_http_free(lv->http);
+	hl_capture_queue_free(lv->captures); /* before the G-buffer, grids and verdicts it reads */
 	hl_pipeline_free(lv->pipe); /* stopped first: nothing publishes any more */
 	hl_stream_free(lv->stream);
 	if (lv->gpio)
@@ -624,7 +612,6 @@ static void teardown(struct live *lv)
 		hl_lid_free(lv->lids[l]);
 	hl_assembler_free(lv->a);
 	hl_dbc_free(lv->db);
-	pthread_mutex_destroy(&lv->capture_lock);
 }
 
 /* STATUS= for systemctl status: per lamp its cycles and state, the frames. */
@@ -719,10 +706,10 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	int64_t status_ns = 0;
 	bool ready = false, done = false;
 	sigset_t mask;
+	char msg[256]; /* a capture's answer: the queue logs it */
 	int sfd, rc, code = 1;
 
 	lv.input_name = cfg->interface[0] ? cfg->interface : cfg->replay;
-	pthread_mutex_init(&lv.capture_lock, NULL);
 	/* signals arrive through a signalfd here; every thread inherits the mask */
 	sigemptyset(&mask);
 	sigaddset(&mask, SIGINT);
@@ -733,6 +720,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	}
 	pthread_sigmask(SIG_BLOCK, &mask, NULL);
 	signal(SIGPIPE, SIG_IGN);
+	signal(SIGXFSZ,
+	       SIG_IGN); /* a capture over RLIMIT_FSIZE fails with EFBIG, the daemon runs on */
 	sfd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
 	rc = sfd < 0 ? -errno : setup(&lv);
 	while (rc == 0) {
@@ -758,10 +747,9 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			hl_ring_wait(lv.ring, 0); /* reset: the next turn pops what came */
 		if (pfd[1].revents & POLLIN) {
 			unsigned edges = 0;
-			char path[1024];
 
 			if (hl_gpio_read_trigger(lv.gpio, &edges) == 0 && edges > 0)
-				capture(&lv, path, sizeof(path));
+				hl_capture_queue_submit(lv.captures, 0, msg, sizeof(msg));
 		}
 		if (!(pfd[0].revents & POLLIN) || read(sfd, &si, sizeof(si)) != sizeof(si))
 			continue;
@@ -769,10 +757,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			hl_notify_reloading();
 			reload(&lv);
 			hl_notify_ready("running (reloaded)");
-		} else if (si.ssi_signo == SIGUSR1) {
-			char path[1024];
-
-			capture(&lv, path, sizeof(path));
+		} else if (si.ssi_signo == SIGUSR1) { /* the queue logs what becomes of it */
+			hl_capture_queue_submit(lv.captures, 0, msg, sizeof(msg));
 		} else {
 			if (lv.pipe)
 				log_msg("%s: stopping", strsignal((int)si.ssi_signo));
@@ -788,6 +774,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		hl_frame_pool_close(lv.pool);
 		hl_http_free(lv.http);
 		lv.http = NULL;
+		if (lv.captures) /* what was asked for is written and counted */
+			hl_capture_queue_stop(lv.captures);
 		hl_pipeline_stop(lv.pipe);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);

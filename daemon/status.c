@@ -13,7 +13,7 @@ struct hl_status {
 	struct hl_status_sources src;
 	pthread_mutex_t lock; /* guards what follows: the main thread writes, HTTP threads read */
 	enum hl_failsafe failsafe;
-	uint64_t reloads, captures, capture_errors;
+	uint64_t reloads;
 };
 
 int hl_status_new(const struct hl_status_sources *src, enum hl_failsafe failsafe,
@@ -49,16 +49,6 @@ void hl_status_reloaded(struct hl_status *st, enum hl_failsafe failsafe)
 	pthread_mutex_unlock(&st->lock);
 }
 
-void hl_status_captured(struct hl_status *st, bool ok)
-{
-	pthread_mutex_lock(&st->lock);
-	if (ok)
-		st->captures++;
-	else
-		st->capture_errors++;
-	pthread_mutex_unlock(&st->lock);
-}
-
 /* Everything the status shows, each part copied under its owner's lock. */
 struct view {
 	struct hl_input_status in;
@@ -66,8 +56,9 @@ struct view {
 	struct hl_stream_counts sc;
 	struct hl_ring_counts rc;
 	struct hl_frame_pool_counts fc;
+	struct hl_capture_queue_counts cc;
 	enum hl_failsafe failsafe;
-	uint64_t reloads, captures;
+	uint64_t reloads;
 };
 
 static void take(struct hl_status *st, struct view *v)
@@ -85,10 +76,11 @@ static void take(struct hl_status *st, struct view *v)
 		hl_ring_counts(s->ring, &v->rc);
 	if (s->pool)
 		hl_frame_pool_counts(s->pool, &v->fc);
+	if (s->captures)
+		hl_capture_queue_counts(s->captures, &v->cc);
 	pthread_mutex_lock(&st->lock);
 	v->failsafe = st->failsafe;
 	v->reloads = st->reloads;
-	v->captures = st->captures;
 	pthread_mutex_unlock(&st->lock);
 }
 
@@ -134,11 +126,12 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
 		",\"dropped\":%" PRIu64 "},\"stream\":{\"clients\":%" PRIu64
 		",\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64 "},\"captures\":%" PRIu64
+		",\"captures_failed\":%" PRIu64 ",\"captures_refused\":%" PRIu64
 		",\"reloads\":%" PRIu64,
 		failsafe_name(v.failsafe), v.pc.frames + v.pc.not_published, v.fc.published,
 		v.pc.not_published, v.pc.render_ms_last, v.pc.render_ms_max, v.rc.pushed,
 		v.rc.consumed, v.rc.superseded, v.rc.dropped, v.sc.clients, v.sc.frames_sent,
-		v.sc.frames_skipped, v.captures, v.reloads);
+		v.sc.frames_skipped, v.cc.written, v.cc.failed, v.cc.refused, v.reloads);
 	if (s->gpio) {
 		struct hl_gpio_counts gc;
 
@@ -229,6 +222,14 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 	hl_prom_family(&p, "hdlamp_stream_frames_skipped_total", HL_PROM_COUNTER,
 		       "Frames slow stream clients skipped.");
 	hl_prom_counter(&p, "hdlamp_stream_frames_skipped_total", NULL, v.sc.frames_skipped);
+	hl_prom_family(&p, "hdlamp_captures_total", HL_PROM_COUNTER,
+		       "Captures by result: written, failed (nothing kept), refused (queue full).");
+	hl_prom_counter(&p, "hdlamp_captures_total",
+			(const char *const[]){ "result", "written", NULL }, v.cc.written);
+	hl_prom_counter(&p, "hdlamp_captures_total",
+			(const char *const[]){ "result", "failed", NULL }, v.cc.failed);
+	hl_prom_counter(&p, "hdlamp_captures_total",
+			(const char *const[]){ "result", "refused", NULL }, v.cc.refused);
 	if (s->pipe) {
 		hl_prom_family(&p, "hdlamp_render_seconds", HL_PROM_HISTOGRAM,
 			       "Time to render a frame (seconds).");

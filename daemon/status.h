@@ -3,11 +3,11 @@
  * The daemon's status for other threads: the /status JSON (also printed at exit) and the
  * /metrics text, read from the input's, ring's, renderer's, pool's and outputs' own counters
  * and from the newest published frame (its verdicts and road KPIs, daemon/verdicts.h),
- * plus what only the main thread changes (the fail-safe mode a reload sets, the reload and
- * capture counts), which it keeps under its own lock.
+ * plus what only the main thread changes (the fail-safe mode a reload sets, the reload count),
+ * which it keeps under its own lock.
  *
  * Thread-safety: hl_status_json and hl_status_metrics from any thread (the HTTP server's);
- * hl_status_reloaded and hl_status_captured from any thread; new and free from the main thread
+ * hl_status_reloaded from any thread; new and free from the main thread
  * while no other thread uses the status.
  */
 #ifndef HL_DAEMON_STATUS_H
@@ -17,6 +17,7 @@
 #include <stddef.h>
 
 #include "daemon/can_input.h"
+#include "daemon/capture_queue.h"
 #include "daemon/config.h"
 #include "daemon/frame_pool.h"
 #include "daemon/gpio.h"
@@ -36,6 +37,7 @@ struct hl_status_sources {
 	struct hl_frame_pool *pool;
 	struct hl_stream *stream;
 	struct hl_gpio *gpio;
+	struct hl_capture_queue *captures;
 	const struct hl_verdicts *verdicts; /* with pipe and pool: the newest frame's verdicts */
 };
 
@@ -48,8 +50,6 @@ void hl_status_free(struct hl_status *st);
 
 /* A reload applied: its fail-safe mode is now the running one; counts the reload. */
 void hl_status_reloaded(struct hl_status *st, enum hl_failsafe failsafe);
-/* Counts a capture written (ok) or failed. */
-void hl_status_captured(struct hl_status *st, bool ok);
 
 /* The status as one JSON object, NUL-terminated: its length, or -ENOBUFS, -errno. */
 int hl_status_json(struct hl_status *st, char *buf, size_t size);

@@ -102,6 +102,7 @@ bool hl_lid_grid_equal(const struct hl_lid_grid *a, const struct hl_lid_grid *b)
  * (inconsistent grid attributes), -ENOMEM. err (optional) says what and where.
  */
 int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err);
+/* Write returns 0, -ENOMEM, the failed open or write's -errno (-ENOSPC, -EFBIG, ...) or -EIO. */
 int hl_lid_write(const struct hl_lid *lid, const char *path, struct hl_lid_error *err);
 
 /* Writes one dense distribution as a combined LID file (channel "I"). */

@@ -344,7 +344,7 @@ out:
 int hl_lid_read(const char *path, struct hl_lid **ret, struct hl_lid_error *err)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct hl_exr_msg msg = { "" };
+	struct hl_exr_msg msg = { .text = "" };
 	struct reader r = { .path = path, .msg = &msg, .err = err };
 	const exr_attr_chlist_t *cl = NULL;
 	struct hl_lid_grid grid = { 0 };
@@ -525,7 +525,7 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 	const struct hl_lid_grid *g = hl_lid_grid(lid);
 	const int n = hl_lid_n_sources(lid);
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct hl_exr_msg msg = { "" };
+	struct hl_exr_msg msg = { .text = "" };
 	struct writer wr = { .lid = lid, .dense = dense };
 	exr_attr_v2f_t h = { .x = g->h_first_deg, .y = g->h_last_deg };
 	exr_attr_v2f_t v = { .x = g->v_first_deg, .y = g->v_last_deg };
@@ -535,9 +535,13 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 
 	init.error_handler_fn = hl_exr_keep_message;
 	init.user_data = &msg;
+	hl_exr_write_begin(&msg);
 	rv = exr_start_write(&wr.ctxt, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
-	if (rv != EXR_ERR_SUCCESS)
-		return hl_exr_fail(err, -EIO, path, "cannot create (%s)", hl_exr_why(rv, &msg));
+	if (rv != EXR_ERR_SUCCESS) {
+		hl_exr_write_end();
+		return hl_exr_fail(err, hl_exr_io_rc(&msg), path, "cannot create (%s)",
+				   hl_exr_why(rv, &msg));
+	}
 	rv = exr_add_part(wr.ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_initialize_required_attr_simple(wr.ctxt, part, g->width, g->height,
@@ -568,7 +572,8 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_get_scanlines_per_chunk(wr.ctxt, part, &wr.lines);
 	if (rv != EXR_ERR_SUCCESS) {
-		rc = hl_exr_fail(err, -EIO, path, "cannot write header (%s)", hl_exr_why(rv, &msg));
+		rc = hl_exr_fail(err, hl_exr_io_rc(&msg), path, "cannot write header (%s)",
+				 hl_exr_why(rv, &msg));
 		goto out;
 	}
 	wr.zeros = calloc((size_t)wr.lines * g->width, sizeof(float));
@@ -579,14 +584,17 @@ static int write_file(const struct hl_lid *lid, const float *dense, const char *
 	}
 	rv = write_chunks(&wr);
 	if (rv != EXR_ERR_SUCCESS)
-		rc = hl_exr_fail(err, -EIO, path, "cannot write pixels (%s)", hl_exr_why(rv, &msg));
+		rc = hl_exr_fail(err, hl_exr_io_rc(&msg), path, "cannot write pixels (%s)",
+				 hl_exr_why(rv, &msg));
 out:
 	free(names);
 	free((void *)wr.zeros);
 	free(wr.scratch);
 	rv = exr_finish(&wr.ctxt);
 	if (rc == 0 && rv != EXR_ERR_SUCCESS)
-		rc = hl_exr_fail(err, -EIO, path, "cannot finish (%s)", hl_exr_why(rv, &msg));
+		rc = hl_exr_fail(err, hl_exr_io_rc(&msg), path, "cannot finish (%s)",
+				 hl_exr_why(rv, &msg));
+	hl_exr_write_end();
 	return rc;
 }
 

@@ -152,7 +152,7 @@ static int write_file(const char *path, int width, int height, const struct chan
 		      struct hl_lid_error *err, struct mem_sink *mem)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	struct exr_msg msg = { { "" }, mem };
+	struct exr_msg msg = { .m = { .text = "" }, .mem = mem };
 	exr_context_t ctxt;
 	exr_result_t rv;
 	int part, rc = 0;
@@ -163,10 +163,14 @@ static int write_file(const char *path, int width, int height, const struct chan
 	init.user_data = &msg;
 	if (mem)
 		init.write_fn = mem_write;
+	hl_exr_write_begin(&msg.m);
 	rv = exr_start_write(&ctxt, path,
 			     mem ? EXR_WRITE_FILE_DIRECTLY : EXR_INTERMEDIATE_TEMP_FILE, &init);
-	if (rv != EXR_ERR_SUCCESS)
-		return hl_exr_fail(err, -EIO, path, "cannot create (%s)", hl_exr_why(rv, &msg.m));
+	if (rv != EXR_ERR_SUCCESS) {
+		hl_exr_write_end();
+		return hl_exr_fail(err, hl_exr_io_rc(&msg.m), path, "cannot create (%s)",
+				   hl_exr_why(rv, &msg.m));
+	}
 	rv = exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
 	if (rv == EXR_ERR_SUCCESS)
 		rv = exr_initialize_required_attr_simple(ctxt, part, width, height,
@@ -181,11 +185,13 @@ static int write_file(const char *path, int width, int height, const struct chan
 	if (rv == EXR_ERR_SUCCESS)
 		rv = write_chunks(ctxt, width, height, ch, n_ch);
 	if (rv != EXR_ERR_SUCCESS)
-		rc = hl_exr_fail(err, -EIO, path, "cannot write (%s)", hl_exr_why(rv, &msg.m));
+		rc = hl_exr_fail(err, hl_exr_io_rc(&msg.m), path, "cannot write (%s)",
+				 hl_exr_why(rv, &msg.m));
 	rv = exr_finish(&ctxt);
 	if (rc == 0 && rv != EXR_ERR_SUCCESS)
-		rc = hl_exr_fail(err, -EIO, path, "cannot finish (%s)",
-				 exr_get_default_error_message(rv));
+		rc = hl_exr_fail(err, hl_exr_io_rc(&msg.m), path, "cannot finish (%s)",
+				 hl_exr_why(rv, &msg.m));
+	hl_exr_write_end();
 	return rc;
 }
 

@@ -30,7 +30,10 @@ struct hl_frame_exr_info {
 	const char *meta_values[HL_FRAME_EXR_MAX_META];
 };
 
-/* rgba: 4 floats per pixel, row 0 at the top. 0, -EINVAL, -EIO, -ENOMEM; err names the file. */
+/*
+ * rgba: 4 floats per pixel, row 0 at the top. 0, -EINVAL, -ENOMEM, the failed open or write's
+ * -errno (-ENOSPC, -EFBIG, -EACCES, ...) or -EIO; err names the file.
+ */
 int hl_frame_exr_write_hdr(const char *path, int width, int height, const float *rgba,
 			   const struct hl_frame_exr_info *info, struct hl_lid_error *err);
 /* lux: one float per pixel. */

@@ -2,13 +2,17 @@
 /* EXR frames: read back with OpenEXRCore, pixels, channels and camera/lamp attributes. */
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <setjmp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <time.h>
 
 #include <cmocka.h>
 #include <openexr.h>
@@ -123,11 +127,62 @@ static void frame_exr_hdr_is_half_rgba(void **state)
 	{
 		struct hl_lid_error err;
 
+		/* the open's errno, not a bare -EIO (a capture tells a full disk apart) */
 		assert_int_equal(hl_frame_exr_write_hdr("/nonexistent/dir/x.exr", W, H, rgba, &info,
 							&err),
-				 -EIO);
+				 -ENOENT);
 		assert_non_null(strstr(err.msg, "/nonexistent/dir/x.exr"));
+		assert_non_null(strstr(err.msg, strerror(ENOENT)));
 	}
+}
+
+struct limited {
+	const float *rgba;
+	const struct hl_frame_exr_info *info;
+	struct hl_lid_error err;
+	int rc;
+};
+
+static void *write_limited(void *arg)
+{
+	struct limited *w = arg;
+
+	w->rc = hl_frame_exr_write_hdr(tmp_path("frame_limited.exr"), W, H, w->rgba, w->info,
+				       &w->err);
+	return NULL;
+}
+
+/*
+ * A write that fails in the header (RLIMIT_FSIZE below the header's size: EFBIG) returns with
+ * the errno and the file. OpenEXRCore reports it with the write context locked; the error
+ * handler used to ask for the user data, which waits on that lock: the writer never returned
+ * (a capture on a full disk hung hdlampd's capture for good).
+ */
+static void frame_exr_header_write_error_returns_errno(void **state)
+{
+	static float rgba[W * H * 4];
+	struct hl_frame_exr_info info = { .n_lamps = 1 };
+	struct limited w = { .rgba = rgba, .info = &info, .rc = 1 };
+	struct rlimit old, small;
+	struct timespec until;
+	pthread_t t;
+	int joined;
+
+	(void)state;
+	signal(SIGXFSZ, SIG_IGN); /* EFBIG rather than the signal */
+	assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+	small = old;
+	small.rlim_cur = 64; /* bytes: less than any EXR header */
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+	assert_int_equal(pthread_create(&t, NULL, write_limited, &w), 0);
+	clock_gettime(CLOCK_REALTIME, &until);
+	until.tv_sec += 30; /* a hang, not a speed */
+	joined = pthread_timedjoin_np(t, NULL, &until);
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+	assert_int_equal(joined, 0);
+	assert_int_equal(w.rc, -EFBIG);
+	assert_non_null(strstr(w.err.msg, "frame_limited.exr"));
+	assert_non_null(strstr(w.err.msg, strerror(EFBIG)));
 }
 
 int main(void)
@@ -135,6 +190,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(frame_exr_lux_reads_back_with_camera),
 		cmocka_unit_test(frame_exr_hdr_is_half_rgba),
+		cmocka_unit_test(frame_exr_header_write_error_returns_errno),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -128,6 +128,7 @@ struct fixture {
 	uint16_t port;
 	atomic_int captures;
 	char capture_path[512];
+	int capture_rc; /* 0: write capture_path; else fail with this and a reason */
 };
 
 static int status_json(void *userdata, char *buf, size_t size)
@@ -160,6 +161,11 @@ static int capture(void *userdata, char *path, size_t size)
 	struct fixture *fx = userdata;
 	FILE *f;
 
+	if (fx->capture_rc) {
+		snprintf(path, size, "'/c/.tmp-frame-1/hdr.exr': cannot write (\"%s\")",
+			 strerror(-fx->capture_rc));
+		return fx->capture_rc;
+	}
 	f = fopen(fx->capture_path, "w");
 	if (!f)
 		return -errno;
@@ -880,6 +886,31 @@ static void http_capture_only_when_allowed(void **state)
 	stop(fx);
 }
 
+/* A capture that failed or was not taken: the status says which, the body why (escaped). */
+static void http_capture_failure_says_why(void **state)
+{
+	static const struct {
+		int rc;
+		int status;
+	} cases[] = { { -ENOSPC, 507 }, { -EFBIG, 507 }, { -EDQUOT, 507 }, { -EIO, 500 },
+		      { -EACCES, 500 }, { -EBUSY, 503 }, { -EAGAIN, 503 }, { -ETIMEDOUT, 504 } };
+	struct fixture *fx = start(true);
+	struct response r;
+	char want[600];
+
+	(void)state;
+	for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+		fx->capture_rc = cases[i].rc;
+		check(fx->port, "POST", "/capture", cases[i].status, "application/json", &r);
+		snprintf(want, sizeof(want),
+			 "{\"error\":\"'/c/.tmp-frame-1/hdr.exr': cannot write (\\\"%s\\\")\"}\n",
+			 strerror(-cases[i].rc));
+		assert_string_equal((char *)r.body, want);
+		free(r.body);
+	}
+	stop(fx);
+}
+
 static void http_free_ends_streams_promptly(void **state)
 {
 	struct fixture *fx = start(false);
@@ -955,6 +986,7 @@ int main(void)
 		cmocka_unit_test(http_mjpeg_stream_follows_the_publisher),
 		cmocka_unit_test(http_stalled_stream_client_delays_nobody),
 		cmocka_unit_test(http_capture_only_when_allowed),
+		cmocka_unit_test(http_capture_failure_says_why),
 		cmocka_unit_test(http_free_ends_streams_promptly),
 		cmocka_unit_test(http_closed_pool_ends_streams),
 	};

@@ -69,8 +69,6 @@ static void status_json_with_the_renderer_off(void **state)
 
 	(void)state;
 	hl_status_reloaded(st, HL_FAILSAFE_DARK);
-	hl_status_captured(st, true);
-	hl_status_captured(st, false); /* counted apart, not shown */
 	snprintf(l, sizeof(l), lamp, "left");
 	snprintf(r, sizeof(r), lamp, "right");
 	snprintf(want, sizeof(want),
@@ -79,7 +77,7 @@ static void status_json_with_the_renderer_off(void **state)
 		 "\"rendered\":0,\"published\":0,\"not_published\":0,\"render_ms_last\":0.000,"
 		 "\"render_ms_max\":0.000},\"ring\":{\"pushed\":0,\"consumed\":0,\"superseded\":0,"
 		 "\"dropped\":0},\"stream\":{\"clients\":0,\"frames_sent\":0,\"frames_skipped\":0},"
-		 "\"captures\":1,\"reloads\":1}",
+		 "\"captures\":0,\"captures_failed\":0,\"captures_refused\":0,\"reloads\":1}",
 		 l, r);
 	n = hl_status_json(st, buf, sizeof(buf));
 	assert_string_equal(buf, want);
@@ -111,6 +109,9 @@ static void status_metrics_are_prometheus_text(void **state)
 				    "hdlamp_ring_snapshots_total{fate=\"dropped\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_lamp_stale{lamp=\"right\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_link_up 0\n"));
+	assert_non_null(strstr(buf, "hdlamp_captures_total{result=\"written\"} 0\n"
+				    "hdlamp_captures_total{result=\"failed\"} 0\n"
+				    "hdlamp_captures_total{result=\"refused\"} 0\n"));
 	assert_null(strstr(buf, "hdlamp_render_seconds")); /* no renderer, no render times */
 	assert_int_equal(hl_status_metrics(st, buf, 100), -ENOBUFS);
 	hl_snapshot_free(s);
