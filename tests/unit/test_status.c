@@ -78,7 +78,9 @@ static void status_json_with_the_renderer_off(void **state)
 		 "\"bus\":\"\"},\"lamps\":[%s,%s],\"failsafe_mode\":\"dark\",\"frames\":{"
 		 "\"rendered\":0,\"published\":0,\"not_published\":0,\"render_ms_last\":0.000,"
 		 "\"render_ms_max\":0.000},\"ring\":{\"pushed\":0,\"consumed\":0,\"superseded\":0,"
-		 "\"dropped\":0},\"stream\":{\"clients\":0,\"frames_sent\":0,\"frames_skipped\":0},"
+		 "\"dropped\":0},\"stream\":{\"clients\":0,\"clients_behind\":0,\"accepted\":0,"
+		 "\"refused\":0,\"dropped\":{\"disconnected\":0,\"stalled\":0,\"evicted\":0,"
+		 "\"input\":0},\"frames_sent\":0,\"frames_skipped\":0,\"bytes_sent\":0},"
 		 "\"captures\":1,\"reloads\":1}",
 		 l, r);
 	n = hl_status_json(st, buf, sizeof(buf));
@@ -111,6 +113,13 @@ static void status_metrics_are_prometheus_text(void **state)
 				    "hdlamp_ring_snapshots_total{fate=\"dropped\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_lamp_stale{lamp=\"right\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_link_up 0\n"));
+	assert_non_null(strstr(buf,
+			       "# TYPE hdlamp_stream_clients_dropped_total counter\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"disconnected\"} 0\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"stalled\"} 0\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"evicted\"} 0\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"input\"} 0\n"));
+	assert_non_null(strstr(buf, "hdlamp_stream_clients_refused_total 0\n"));
 	assert_null(strstr(buf, "hdlamp_render_ms")); /* no renderer, no render times */
 	assert_int_equal(hl_status_metrics(st, buf, 100), -ENOBUFS);
 	hl_snapshot_free(s);
