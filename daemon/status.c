@@ -109,8 +109,8 @@ static void stream_json(FILE *f, const struct hl_stream_counts *c)
 			c->dropped[i]);
 	fprintf(f,
 		"},\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64
-		",\"bytes_sent\":%" PRIu64 "}",
-		c->frames_sent, c->frames_skipped, c->bytes_sent);
+		",\"bytes_sent\":%" PRIu64 ",\"input_reads\":%" PRIu64 "}",
+		c->frames_sent, c->frames_skipped, c->bytes_sent, c->input_reads);
 }
 
 static void stream_metrics(struct hl_prom *p, const struct hl_stream_counts *c)
@@ -142,6 +142,9 @@ static void stream_metrics(struct hl_prom *p, const struct hl_stream_counts *c)
 	hl_prom_family(p, "hdlamp_stream_sent_bytes_total", HL_PROM_COUNTER,
 		       "Bytes sent to stream clients.");
 	hl_prom_counter(p, "hdlamp_stream_sent_bytes_total", NULL, c->bytes_sent);
+	hl_prom_family(p, "hdlamp_stream_input_reads_total", HL_PROM_COUNTER,
+		       "Reads of stream clients' input (a half-close, or a client dropped).");
+	hl_prom_counter(p, "hdlamp_stream_input_reads_total", NULL, c->input_reads);
 }
 
 int hl_status_json(struct hl_status *st, char *buf, size_t size)

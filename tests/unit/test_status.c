@@ -80,7 +80,8 @@ static void status_json_with_the_renderer_off(void **state)
 		 "\"render_ms_max\":0.000},\"ring\":{\"pushed\":0,\"consumed\":0,\"superseded\":0,"
 		 "\"dropped\":0},\"stream\":{\"clients\":0,\"clients_behind\":0,\"accepted\":0,"
 		 "\"refused\":0,\"dropped\":{\"disconnected\":0,\"stalled\":0,\"evicted\":0,"
-		 "\"input\":0},\"frames_sent\":0,\"frames_skipped\":0,\"bytes_sent\":0},"
+		 "\"input\":0},\"frames_sent\":0,\"frames_skipped\":0,\"bytes_sent\":0,"
+		 "\"input_reads\":0},"
 		 "\"captures\":1,\"reloads\":1}",
 		 l, r);
 	n = hl_status_json(st, buf, sizeof(buf));
