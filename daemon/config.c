@@ -95,7 +95,10 @@ static const struct key keys[] = {
 	  "Unix socket of the frame stream, empty = off", NULL },
 	{ "stream", "raw", BOOL, F(stream_raw), 0, 0,
 	  "pixels only, no header (for ffmpeg -f rawvideo)", NULL },
-	{ "stream", "max_clients", INT, F(stream_max_clients), 1, 64, "clients at once", NULL },
+	{ "stream", "max_clients", INT, F(stream_max_clients), 1, 64,
+	  "clients at once; a new one replaces a client behind, else it is refused", NULL },
+	{ "stream", "stall_timeout_ms", INT, F(stream_stall_timeout_ms), 100, 600000,
+	  "a client that takes no byte of its frame this long is dropped", NULL },
 	{ "http", "listen", ADDRESS, F(http_listen), 0, 0,
 	  "HOST:PORT of the HTTP live view (port 0: any free one), empty = off", NULL },
 	{ "http", "capture", BOOL, F(http_capture), 0, 0, "allow POST /capture", NULL },
@@ -148,6 +151,7 @@ void hl_config_defaults(struct hl_config *c)
 	c->coalesce_ms = 2.0;
 	strcpy(c->stream_tcp, "127.0.0.1:5600");
 	c->stream_max_clients = 8;
+	c->stream_stall_timeout_ms = 2000;
 	strcpy(c->http_listen, "127.0.0.1:8080");
 	strcpy(c->capture_dir, "captures");
 	c->capture_queue = 4;

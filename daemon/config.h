@@ -65,6 +65,7 @@ struct hl_config {
 	char stream_unix[HL_CONFIG_PATH]; /* socket path or "" */
 	bool stream_raw;
 	int stream_max_clients;
+	int stream_stall_timeout_ms; /* a client taking no byte of its frame this long is dropped */
 	/* [http] */
 	char http_listen[HL_CONFIG_NAME]; /* host:port or "" */
 	bool http_capture; /* allow POST /capture */

@@ -495,8 +495,8 @@ static int setup_outputs(struct live *lv)
 	}
 	if (lv->cfg.stream_tcp[0] || lv->cfg.stream_unix[0]) {
 		rc = hl_stream_new(lv->cfg.stream_tcp, lv->cfg.stream_unix, lv->cfg.stream_raw,
-				   lv->cfg.stream_max_clients, lv->pool, &lv->stream, err,
-				   sizeof(err));
+				   lv->cfg.stream_max_clients, lv->cfg.stream_stall_timeout_ms,
+				   lv->pool, &lv->stream, err, sizeof(err));
 		if (rc == 0)
 			rc = hl_stream_start(lv->stream);
 		if (rc < 0) {

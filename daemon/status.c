@@ -89,6 +89,56 @@ static const char *failsafe_name(enum hl_failsafe m)
 	return m == HL_FAILSAFE_HOLD ? "hold" : m == HL_FAILSAFE_DARK ? "dark" : "preset";
 }
 
+/* The frame stream's clients and frames (daemon/stream.h): "stream":{...}. */
+static void stream_json(FILE *f, const struct hl_stream_counts *c)
+{
+	fprintf(f,
+		"\"stream\":{\"clients\":%" PRIu64 ",\"clients_behind\":%" PRIu64
+		",\"accepted\":%" PRIu64 ",\"refused\":%" PRIu64 ",\"dropped\":{",
+		c->clients, c->clients_behind, c->accepted, c->refused);
+	for (int i = 0; i < HL_STREAM_DROP_N; i++)
+		fprintf(f, "%s\"%s\":%" PRIu64, i ? "," : "", hl_stream_drop_name(i),
+			c->dropped[i]);
+	fprintf(f,
+		"},\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64
+		",\"bytes_sent\":%" PRIu64 ",\"input_reads\":%" PRIu64 "}",
+		c->frames_sent, c->frames_skipped, c->bytes_sent, c->input_reads);
+}
+
+static void stream_metrics(struct hl_prom *p, const struct hl_stream_counts *c)
+{
+	_Static_assert(HL_STREAM_BEHIND_FRAMES == 3, "hdlamp_stream_clients_behind's help says 3");
+	hl_prom_family(p, "hdlamp_stream_clients", HL_PROM_GAUGE, "Frame stream clients now.");
+	hl_prom_gauge(p, "hdlamp_stream_clients", NULL, (double)c->clients);
+	hl_prom_family(p, "hdlamp_stream_clients_behind", HL_PROM_GAUGE,
+		       "Stream clients still sending a frame 3 or more older than the newest.");
+	hl_prom_gauge(p, "hdlamp_stream_clients_behind", NULL, (double)c->clients_behind);
+	hl_prom_family(p, "hdlamp_stream_clients_accepted_total", HL_PROM_COUNTER,
+		       "Stream clients accepted.");
+	hl_prom_counter(p, "hdlamp_stream_clients_accepted_total", NULL, c->accepted);
+	hl_prom_family(p, "hdlamp_stream_clients_refused_total", HL_PROM_COUNTER,
+		       "Stream clients refused: every slot held by a client not behind.");
+	hl_prom_counter(p, "hdlamp_stream_clients_refused_total", NULL, c->refused);
+	hl_prom_family(p, "hdlamp_stream_clients_dropped_total", HL_PROM_COUNTER,
+		       "Stream clients dropped, by reason.");
+	for (int i = 0; i < HL_STREAM_DROP_N; i++)
+		hl_prom_counter(p, "hdlamp_stream_clients_dropped_total",
+				(const char *const[]){ "reason", hl_stream_drop_name(i), NULL },
+				c->dropped[i]);
+	hl_prom_family(p, "hdlamp_stream_frames_sent_total", HL_PROM_COUNTER,
+		       "Frames sent whole to stream clients.");
+	hl_prom_counter(p, "hdlamp_stream_frames_sent_total", NULL, c->frames_sent);
+	hl_prom_family(p, "hdlamp_stream_frames_skipped_total", HL_PROM_COUNTER,
+		       "Frames slow stream clients skipped.");
+	hl_prom_counter(p, "hdlamp_stream_frames_skipped_total", NULL, c->frames_skipped);
+	hl_prom_family(p, "hdlamp_stream_sent_bytes_total", HL_PROM_COUNTER,
+		       "Bytes sent to stream clients.");
+	hl_prom_counter(p, "hdlamp_stream_sent_bytes_total", NULL, c->bytes_sent);
+	hl_prom_family(p, "hdlamp_stream_input_reads_total", HL_PROM_COUNTER,
+		       "Reads of stream clients' input (a half-close, or a client dropped).");
+	hl_prom_counter(p, "hdlamp_stream_input_reads_total", NULL, c->input_reads);
+}
+
 int hl_status_json(struct hl_status *st, char *buf, size_t size)
 {
 	const struct hl_status_sources *s = &st->src;
@@ -124,14 +174,15 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 		",\"published\":%" PRIu64 ",\"not_published\":%" PRIu64
 		",\"render_ms_last\":%.3f,\"render_ms_max\":%.3f},"
 		"\"ring\":{\"pushed\":%" PRIu64 ",\"consumed\":%" PRIu64 ",\"superseded\":%" PRIu64
-		",\"dropped\":%" PRIu64 "},\"stream\":{\"clients\":%" PRIu64
-		",\"frames_sent\":%" PRIu64 ",\"frames_skipped\":%" PRIu64 "},\"captures\":%" PRIu64
-		",\"captures_failed\":%" PRIu64 ",\"captures_refused\":%" PRIu64
-		",\"reloads\":%" PRIu64,
+		",\"dropped\":%" PRIu64 "},",
 		failsafe_name(v.failsafe), v.pc.frames + v.pc.not_published, v.fc.published,
 		v.pc.not_published, v.pc.render_ms_last, v.pc.render_ms_max, v.rc.pushed,
-		v.rc.consumed, v.rc.superseded, v.rc.dropped, v.sc.clients, v.sc.frames_sent,
-		v.sc.frames_skipped, v.cc.written, v.cc.failed, v.cc.refused, v.reloads);
+		v.rc.consumed, v.rc.superseded, v.rc.dropped);
+	stream_json(f, &v.sc);
+	fprintf(f,
+		",\"captures\":%" PRIu64 ",\"captures_failed\":%" PRIu64
+		",\"captures_refused\":%" PRIu64 ",\"reloads\":%" PRIu64,
+		v.cc.written, v.cc.failed, v.cc.refused, v.reloads);
 	if (s->gpio) {
 		struct hl_gpio_counts gc;
 
@@ -219,9 +270,7 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 	hl_prom_family(&p, "hdlamp_frames_total", HL_PROM_COUNTER,
 		       "Frames rendered and published.");
 	hl_prom_counter(&p, "hdlamp_frames_total", NULL, v.pc.frames);
-	hl_prom_family(&p, "hdlamp_stream_frames_skipped_total", HL_PROM_COUNTER,
-		       "Frames slow stream clients skipped.");
-	hl_prom_counter(&p, "hdlamp_stream_frames_skipped_total", NULL, v.sc.frames_skipped);
+	stream_metrics(&p, &v.sc);
 	hl_prom_family(&p, "hdlamp_captures_total", HL_PROM_COUNTER,
 		       "Captures by result: written, failed (nothing kept), refused (queue full).");
 	hl_prom_counter(&p, "hdlamp_captures_total",

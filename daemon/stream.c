@@ -20,8 +20,8 @@
 #include "daemon/clock.h"
 #include "daemon/http.h"
 
-#define MAX_CLIENTS 64
-#define POLL_MS 100
+#define MAX_CLIENTS HL_STREAM_MAX_CLIENTS
+#define POLL_MS 100 /* the longest poll: stalls are judged at least this often */
 
 /*
  * A client sends straight from the pool frame it holds (no copy) as long as the socket takes
@@ -36,6 +36,7 @@ struct client {
 	size_t len, off;
 	uint64_t last_seq;
 	uint64_t sent, skipped;
+	int64_t t_progress_ns; /* the last byte it took, or when its frame was loaded */
 	bool eof; /* the client shut down its sending side: no longer polled for input */
 };
 
@@ -44,6 +45,7 @@ struct hl_stream {
 	bool subscribed; /* to the pool's published frames */
 	bool raw;
 	int max_clients;
+	int64_t stall_ns; /* a client with a frame to take and no byte taken this long goes */
 	int tcp_fd, unix_fd, wake_fd, tcp_port;
 	char unix_path[108];
 	size_t frame_bytes;
@@ -165,7 +167,8 @@ static void on_published(void *userdata, const struct hl_frame *f)
 }
 
 int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clients,
-		  struct hl_frame_pool *pool, struct hl_stream **ret, char *err, size_t err_size)
+		  int stall_timeout_ms, struct hl_frame_pool *pool, struct hl_stream **ret,
+		  char *err, size_t err_size)
 {
 	const struct hl_frame_shape *sh = hl_frame_pool_shape(pool);
 	struct hl_stream *s;
@@ -174,12 +177,18 @@ int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clie
 		snprintf(err, err_size, "stream.max_clients: expected 1..%d", MAX_CLIENTS);
 		return -EINVAL;
 	}
+	if (stall_timeout_ms < 1) {
+		snprintf(err, err_size, "stream.stall_timeout_ms: expected >= 1, found %d",
+			 stall_timeout_ms);
+		return -EINVAL;
+	}
 	s = calloc(1, sizeof(*s));
 	if (!s)
 		return -ENOMEM;
 	s->pool = pool;
 	s->raw = raw;
 	s->max_clients = max_clients;
+	s->stall_ns = (int64_t)stall_timeout_ms * 1000000;
 	s->tcp_fd = s->unix_fd = -1;
 	for (int i = 0; i < MAX_CLIENTS; i++)
 		s->clients[i].fd = -1;
@@ -229,7 +238,19 @@ static void release_frame(struct hl_stream *s, struct client *c)
 	c->frame = NULL;
 }
 
-static void drop_client(struct hl_stream *s, struct client *c)
+const char *hl_stream_drop_name(enum hl_stream_drop why)
+{
+	static const char *const names[HL_STREAM_DROP_N] = {
+		[HL_STREAM_DROP_DISCONNECTED] = "disconnected",
+		[HL_STREAM_DROP_STALLED] = "stalled",
+		[HL_STREAM_DROP_EVICTED] = "evicted",
+		[HL_STREAM_DROP_INPUT] = "input",
+	};
+
+	return names[why];
+}
+
+static void close_client(struct hl_stream *s, struct client *c)
 {
 	release_frame(s, c);
 	close(c->fd);
@@ -237,6 +258,24 @@ static void drop_client(struct hl_stream *s, struct client *c)
 	*c = (struct client){ .fd = -1 };
 	pthread_mutex_lock(&s->lock);
 	s->c.clients--;
+	pthread_mutex_unlock(&s->lock);
+}
+
+/*
+ * Dropped by the stream, not by the peer: a reset (SO_LINGER 0), so what the client did not
+ * take is discarded now rather than kept by the kernel for a peer that does not read.
+ */
+static void drop_client(struct hl_stream *s, struct client *c, enum hl_stream_drop why)
+{
+	if (why != HL_STREAM_DROP_DISCONNECTED) {
+		const struct linger reset = { .l_onoff = 1, .l_linger = 0 };
+
+		/* should it fail, a plain close: the client is dropped all the same */
+		setsockopt(c->fd, SOL_SOCKET, SO_LINGER, &reset, sizeof(reset));
+	}
+	close_client(s, c);
+	pthread_mutex_lock(&s->lock);
+	s->c.dropped[why]++;
 	pthread_mutex_unlock(&s->lock);
 }
 
@@ -249,7 +288,7 @@ void hl_stream_free(struct hl_stream *s)
 	hl_stream_stop(s);
 	for (int i = 0; i < MAX_CLIENTS; i++)
 		if (s->clients[i].fd >= 0)
-			drop_client(s, &s->clients[i]);
+			close_client(s, &s->clients[i]);
 	if (s->tcp_fd >= 0)
 		close(s->tcp_fd);
 	if (s->unix_fd >= 0) {
@@ -260,6 +299,42 @@ void hl_stream_free(struct hl_stream *s)
 		close(s->wake_fd);
 	pthread_mutex_destroy(&s->lock);
 	free(s);
+}
+
+/* Has a frame to take and no byte taken for stall_timeout_ms. */
+static bool stalled(const struct hl_stream *s, const struct client *c, int64_t now_ns)
+{
+	return c->off < c->len && now_ns - c->t_progress_ns >= s->stall_ns;
+}
+
+/* Still sending a frame HL_STREAM_BEHIND_FRAMES or more older than the newest (newest_seq). */
+static bool behind(const struct client *c, uint64_t newest_seq)
+{
+	return c->off < c->len && c->hdr.seq + HL_STREAM_BEHIND_FRAMES <= newest_seq;
+}
+
+static uint64_t newest_seq(struct hl_stream *s)
+{
+	struct hl_frame_pool_counts pc;
+
+	hl_frame_pool_counts(s->pool, &pc);
+	return pc.published; /* the pool numbers its frames 1, 2, ... */
+}
+
+/* The client behind that has taken no byte for longest, or NULL: whom a new client replaces. */
+static struct client *longest_stalled(struct hl_stream *s)
+{
+	const uint64_t newest = newest_seq(s);
+	struct client *victim = NULL;
+
+	for (int i = 0; i < MAX_CLIENTS; i++) {
+		struct client *c = &s->clients[i];
+
+		if (c->fd >= 0 && behind(c, newest) &&
+		    (!victim || c->t_progress_ns < victim->t_progress_ns))
+			victim = c;
+	}
+	return victim;
 }
 
 static void accept_client(struct hl_stream *s, int lfd)
@@ -276,16 +351,23 @@ static void accept_client(struct hl_stream *s, int lfd)
 		else if (!c)
 			c = &s->clients[i];
 	}
+	if (n >= s->max_clients) {
+		struct client *victim = longest_stalled(s);
+
+		if (victim) {
+			drop_client(s, victim, HL_STREAM_DROP_EVICTED);
+			c = victim;
+			n--;
+		}
+	}
 	if (n >= s->max_clients || !c || !(c->buf = malloc(s->frame_bytes))) {
 		close(fd);
 		pthread_mutex_lock(&s->lock);
-		s->c.rejected++;
+		s->c.refused++;
 		pthread_mutex_unlock(&s->lock);
 		return;
 	}
 	c->fd = fd;
-	c->len = c->off = 0;
-	c->last_seq = 0;
 	pthread_mutex_lock(&s->lock);
 	s->c.accepted++;
 	s->c.clients++;
@@ -303,6 +385,7 @@ static void load_frame(struct hl_stream *s, struct client *c)
 		return;
 	h = f->hdr;
 	h.t_sent_ns = hl_clock_monotonic_ns();
+	c->t_progress_ns = h.t_sent_ns;
 	c->frame = f;
 	c->hdr = h;
 	c->len = (s->raw ? 0 : sizeof(h)) + h.payload_size;
@@ -347,15 +430,16 @@ static void copy_rest(struct hl_stream *s, struct client *c)
 }
 
 /*
- * Reads and drops what the client sent (the stream takes no input). recv() returning 0 is not
- * an error: the client shut down its sending side and may still read (a half-close), so it
+ * The stream takes no input: a byte from the client drops it (input). recv() returning 0 is
+ * not an error: the client shut down its sending side and may still read (a half-close), so it
  * stays and is no longer polled for input (a socket at EOF is readable for ever). A client that
- * closed the connection entirely shows as POLLHUP or as a failing send. false when it is gone.
+ * closed the connection entirely shows as POLLHUP or as a failing send (or recv). false when it
+ * is to be dropped, why in *ret_why.
  */
-static bool drain_input(struct hl_stream *s, struct client *c)
+static bool check_input(struct hl_stream *s, struct client *c, enum hl_stream_drop *ret_why)
 {
-	char sink[256];
-	const ssize_t n = recv(c->fd, sink, sizeof(sink), MSG_DONTWAIT);
+	char b;
+	const ssize_t n = recv(c->fd, &b, 1, MSG_DONTWAIT);
 	const bool gone = n < 0 && errno != EAGAIN && errno != EINTR;
 
 	if (n == 0)
@@ -364,7 +448,9 @@ static bool drain_input(struct hl_stream *s, struct client *c)
 	s->c.input_reads++;
 	s->c.input_eofs += n == 0;
 	pthread_mutex_unlock(&s->lock);
-	return !gone;
+	if (n > 0 || gone)
+		*ret_why = n > 0 ? HL_STREAM_DROP_INPUT : HL_STREAM_DROP_DISCONNECTED;
+	return n <= 0 && !gone;
 }
 
 /* Sends what the socket takes now; false when the client is gone. */
@@ -391,6 +477,7 @@ static bool pump(struct hl_stream *s, struct client *c)
 			return true;
 		}
 		c->off += (size_t)n;
+		c->t_progress_ns = hl_clock_monotonic_ns();
 		pthread_mutex_lock(&s->lock);
 		s->c.bytes_sent += (uint64_t)n;
 		if (c->off == c->len)
@@ -401,6 +488,40 @@ static bool pump(struct hl_stream *s, struct client *c)
 	return true;
 }
 
+/*
+ * Drops the clients stalled for stall_timeout_ms, gives each idle client the newest frame and
+ * counts the clients behind; the poll set in pfd/who (after the n entries there), its length.
+ */
+static nfds_t look_at_clients(struct hl_stream *s, struct pollfd *pfd, struct client **who,
+			      nfds_t n)
+{
+	const int64_t now = hl_clock_monotonic_ns();
+	const uint64_t newest = newest_seq(s);
+	uint64_t n_behind = 0;
+
+	for (int i = 0; i < MAX_CLIENTS; i++) {
+		struct client *c = &s->clients[i];
+
+		if (c->fd < 0)
+			continue;
+		if (stalled(s, c, now)) {
+			drop_client(s, c, HL_STREAM_DROP_STALLED);
+			continue;
+		}
+		if (c->off == c->len)
+			load_frame(s, c);
+		n_behind += behind(c, newest);
+		who[n] = c;
+		pfd[n++] = (struct pollfd){ .fd = c->fd,
+					    .events = (c->eof ? 0 : POLLIN) |
+						      (c->off < c->len ? POLLOUT : 0) };
+	}
+	pthread_mutex_lock(&s->lock);
+	s->c.clients_behind = n_behind;
+	pthread_mutex_unlock(&s->lock);
+	return n;
+}
+
 static void *thread_main(void *arg)
 {
 	struct hl_stream *s = arg;
@@ -408,7 +529,7 @@ static void *thread_main(void *arg)
 	while (!atomic_load(&s->stop)) {
 		struct pollfd pfd[3 + MAX_CLIENTS];
 		struct client *who[3 + MAX_CLIENTS];
-		nfds_t n = 0;
+		nfds_t n = 0, first;
 		uint64_t wakes;
 
 		pfd[n++] = (struct pollfd){ .fd = s->wake_fd, .events = POLLIN };
@@ -416,22 +537,29 @@ static void *thread_main(void *arg)
 			pfd[n++] = (struct pollfd){ .fd = s->tcp_fd, .events = POLLIN };
 		if (s->unix_fd >= 0)
 			pfd[n++] = (struct pollfd){ .fd = s->unix_fd, .events = POLLIN };
-		for (int i = 0; i < MAX_CLIENTS; i++) {
-			struct client *c = &s->clients[i];
-
-			if (c->fd < 0)
-				continue;
-			if (c->off == c->len)
-				load_frame(s, c);
-			who[n] = c;
-			pfd[n++] = (struct pollfd){ .fd = c->fd,
-						    .events = (c->eof ? 0 : POLLIN) |
-							      (c->off < c->len ? POLLOUT : 0) };
-		}
+		first = n;
+		n = look_at_clients(s, pfd, who, n);
 		if (poll(pfd, n, POLL_MS) <= 0)
 			continue;
-		for (nfds_t i = 0; i < n; i++) {
+		/* the clients before the listeners: a new client may take an evicted one's slot */
+		for (nfds_t i = first; i < n; i++) {
+			struct client *c = who[i];
+			enum hl_stream_drop why = HL_STREAM_DROP_DISCONNECTED;
+			bool alive = true;
+
 			if (!pfd[i].revents)
+				continue;
+			if (pfd[i].revents & (POLLERR | POLLHUP))
+				alive = false;
+			if (alive && (pfd[i].revents & POLLIN))
+				alive = check_input(s, c, &why);
+			if (alive && (pfd[i].revents & POLLOUT))
+				alive = pump(s, c);
+			if (!alive)
+				drop_client(s, c, why);
+		}
+		for (nfds_t i = 0; i < first; i++) {
+			if (!(pfd[i].revents & POLLIN))
 				continue;
 			if (pfd[i].fd == s->wake_fd) {
 				if (read(s->wake_fd, &wakes, sizeof(wakes)) < 0) {
@@ -439,18 +567,6 @@ static void *thread_main(void *arg)
 				}
 			} else if (pfd[i].fd == s->tcp_fd || pfd[i].fd == s->unix_fd) {
 				accept_client(s, pfd[i].fd);
-			} else {
-				struct client *c = who[i];
-				bool alive = true;
-
-				if (pfd[i].revents & (POLLERR | POLLHUP))
-					alive = false;
-				if (alive && (pfd[i].revents & POLLIN))
-					alive = drain_input(s, c);
-				if (alive && (pfd[i].revents & POLLOUT))
-					alive = pump(s, c);
-				if (!alive)
-					drop_client(s, c);
 			}
 		}
 	}

@@ -76,7 +76,10 @@ static void status_json_with_the_renderer_off(void **state)
 		 "\"bus\":\"\"},\"lamps\":[%s,%s],\"failsafe_mode\":\"dark\",\"frames\":{"
 		 "\"rendered\":0,\"published\":0,\"not_published\":0,\"render_ms_last\":0.000,"
 		 "\"render_ms_max\":0.000},\"ring\":{\"pushed\":0,\"consumed\":0,\"superseded\":0,"
-		 "\"dropped\":0},\"stream\":{\"clients\":0,\"frames_sent\":0,\"frames_skipped\":0},"
+		 "\"dropped\":0},\"stream\":{\"clients\":0,\"clients_behind\":0,\"accepted\":0,"
+		 "\"refused\":0,\"dropped\":{\"disconnected\":0,\"stalled\":0,\"evicted\":0,"
+		 "\"input\":0},\"frames_sent\":0,\"frames_skipped\":0,\"bytes_sent\":0,"
+		 "\"input_reads\":0},"
 		 "\"captures\":0,\"captures_failed\":0,\"captures_refused\":0,\"reloads\":1}",
 		 l, r);
 	n = hl_status_json(st, buf, sizeof(buf));
@@ -109,6 +112,13 @@ static void status_metrics_are_prometheus_text(void **state)
 				    "hdlamp_ring_snapshots_total{fate=\"dropped\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_lamp_stale{lamp=\"right\"} 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_link_up 0\n"));
+	assert_non_null(strstr(buf,
+			       "# TYPE hdlamp_stream_clients_dropped_total counter\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"disconnected\"} 0\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"stalled\"} 0\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"evicted\"} 0\n"
+			       "hdlamp_stream_clients_dropped_total{reason=\"input\"} 0\n"));
+	assert_non_null(strstr(buf, "hdlamp_stream_clients_refused_total 0\n"));
 	assert_non_null(strstr(buf, "hdlamp_captures_total{result=\"written\"} 0\n"
 				    "hdlamp_captures_total{result=\"failed\"} 0\n"
 				    "hdlamp_captures_total{result=\"refused\"} 0\n"));

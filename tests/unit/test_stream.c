@@ -29,6 +29,7 @@
 #include "testutil.h"
 
 #define WAIT_MS 20000 /* only a broken stream takes this long to reach an expected count */
+#define NO_STALL_MS 600000 /* stall timeout of the cases that do not test it */
 #define HDR sizeof(struct hl_frame_header)
 
 struct fixture {
@@ -38,8 +39,8 @@ struct fixture {
 	int port;
 };
 
-static struct fixture *start(const struct hl_frame_shape *shape, int n_frames, bool raw,
-			     int max_clients)
+static struct fixture *start_with(const struct hl_frame_shape *shape, int n_frames, bool raw,
+				  int max_clients, int stall_timeout_ms)
 {
 	struct fixture *fx = calloc(1, sizeof(*fx));
 	char err[256] = "";
@@ -47,13 +48,19 @@ static struct fixture *start(const struct hl_frame_shape *shape, int n_frames, b
 	assert_non_null(fx);
 	assert_int_equal(hl_frame_pool_new(n_frames, shape, &fx->pool), 0);
 	test_path(fx->unix_path, sizeof(fx->unix_path), "stream.sock");
-	if (hl_stream_new("127.0.0.1:0", fx->unix_path, raw, max_clients, fx->pool, &fx->stream,
-			  err, sizeof(err)) < 0)
+	if (hl_stream_new("127.0.0.1:0", fx->unix_path, raw, max_clients, stall_timeout_ms,
+			  fx->pool, &fx->stream, err, sizeof(err)) < 0)
 		fail_msg("hl_stream_new: %s", err);
 	fx->port = hl_stream_tcp_port(fx->stream);
 	assert_true(fx->port > 0);
 	assert_int_equal(hl_stream_start(fx->stream), 0);
 	return fx;
+}
+
+static struct fixture *start(const struct hl_frame_shape *shape, int n_frames, bool raw,
+			     int max_clients)
+{
+	return start_with(shape, n_frames, raw, max_clients, NO_STALL_MS);
 }
 
 static void stop(struct fixture *fx)
@@ -293,7 +300,7 @@ static void stream_reader_gets_exact_headers_and_pixels(void **state)
 	wait_count(fx, frames_sent, 5);
 	c = counts(fx);
 	assert_int_equal(c.accepted, 1);
-	assert_int_equal(c.rejected, 0);
+	assert_int_equal(c.refused, 0);
 	assert_int_equal(c.clients, 1);
 	assert_int_equal(c.frames_skipped, 0);
 	assert_int_equal(c.bytes_sent, 5 * frame);
@@ -469,7 +476,7 @@ static void stream_disconnects_are_counted(void **state)
 	c = counts(fx);
 	assert_int_equal(c.clients, 0);
 	assert_int_equal(c.accepted, 3);
-	assert_int_equal(c.rejected, 0);
+	assert_int_equal(c.refused, 0);
 	stop(fx);
 }
 
@@ -484,7 +491,7 @@ static void stream_rejects_clients_over_the_limit(void **state)
 	first = connect_unix(fx, 0);
 	wait_count(fx, accepted, 1);
 	second = connect_unix(fx, 0);
-	wait_count(fx, rejected, 1);
+	wait_count(fx, refused, 1);
 	assert_int_equal(recv(second, &b, 1, 0), 0); /* closed by the stream */
 	publish(fx, 1);
 	read_frame(first, &small, 1);
@@ -496,6 +503,167 @@ static void stream_rejects_clients_over_the_limit(void **state)
 	stop(fx);
 }
 
+/* Reads what is queued until the stream's close: the bytes read (EOF or reset ends it). */
+static size_t read_to_close(int fd)
+{
+	static uint8_t sink[65536];
+	size_t total = 0;
+
+	for (;;) {
+		const ssize_t k = recv(fd, sink, sizeof(sink), 0);
+
+		if (k == 0 || (k < 0 && errno == ECONNRESET))
+			return total;
+		if (k < 0)
+			fail_msg("recv: %s, expected the stream to close", strerror(errno));
+		total += (size_t)k;
+	}
+}
+
+/*
+ * The stream takes no input: a client that sends a byte is dropped at once (over TCP with a
+ * reset), counted as input; a reader beside it gets every frame.
+ */
+static void stream_client_that_sends_is_dropped(void **state)
+{
+	struct fixture *fx = start(&small, 3, false, 4);
+	struct hl_stream_counts c;
+	int reader, tcp, unx;
+	char b;
+	(void)state;
+
+	reader = connect_unix(fx, 0);
+	tcp = connect_tcp(fx);
+	unx = connect_unix(fx, 0);
+	wait_count(fx, accepted, 3);
+	publish(fx, 1);
+	read_frame(reader, &small, 1);
+	read_frame(tcp, &small, 1);
+	read_frame(unx, &small, 1);
+	assert_int_equal(send(tcp, "x", 1, MSG_NOSIGNAL), 1);
+	wait_count(fx, dropped[HL_STREAM_DROP_INPUT], 1);
+	assert_int_equal(recv(tcp, &b, 1, 0), -1);
+	assert_int_equal(errno, ECONNRESET);
+	assert_int_equal(send(unx, "GET / HTTP/1.0\r\n\r\n", 18, MSG_NOSIGNAL), 18);
+	wait_count(fx, dropped[HL_STREAM_DROP_INPUT], 2);
+	assert_int_equal(read_to_close(unx), 0); /* reset: it closed with input unread */
+	for (uint64_t seq = 2; seq <= 4; seq++) {
+		publish(fx, seq);
+		read_frame(reader, &small, seq);
+	}
+	wait_count(fx, frames_sent, 6);
+	c = counts(fx);
+	assert_int_equal(c.clients, 1);
+	assert_int_equal(c.accepted, 3);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_INPUT], 2);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_DISCONNECTED], 0);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_STALLED], 0);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_EVICTED], 0);
+	assert_int_equal(c.input_reads, 2); /* one byte of each: enough to know */
+	assert_int_equal(c.frames_skipped, 0);
+	close(tcp);
+	close(unx);
+	close(reader);
+	stop(fx);
+}
+
+/*
+ * A client that takes no byte of its frame for stall_timeout_ms is dropped, no sooner (judged
+ * by the stream's own t_sent_ns: its last byte went after that); a client with nothing to take
+ * stays however long it waits.
+ */
+static void stream_stalled_client_is_dropped_after_the_timeout(void **state)
+{
+	const int64_t stall_ms = 300;
+	struct fixture *fx = start_with(&big, 4, false, 4, (int)stall_ms);
+	const size_t frame = HDR + (size_t)big.width * big.height * 8;
+	struct hl_frame_header h;
+	struct hl_stream_counts c;
+	int64_t t_dropped;
+	size_t got;
+	int idle, stalled;
+	(void)state;
+
+	idle = connect_unix(fx, 0);
+	stalled = connect_unix(fx, 4096);
+	wait_count(fx, accepted, 2);
+	publish(fx, 1);
+	read_frame(idle, &big, 1);
+	assert_int_equal(read_exact(stalled, &h, HDR), HDR);
+	check_header(&h, &big, 1);
+	wait_count(fx, dropped[HL_STREAM_DROP_STALLED], 1);
+	t_dropped = hl_monotonic_ns();
+	assert_true(t_dropped - h.t_sent_ns >= stall_ms * 1000000);
+	got = read_to_close(stalled);
+	assert_true(got > 0 && got < frame - HDR); /* what was queued, then the end */
+	c = counts(fx);
+	assert_int_equal(c.clients, 1);
+	assert_int_equal(c.accepted, 2);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_STALLED], 1);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_DISCONNECTED], 0);
+	/* the idle client waited as long with nothing to take: still there */
+	publish(fx, 2);
+	read_frame(idle, &big, 2);
+	assert_int_equal(counts(fx).clients, 1);
+	close(stalled);
+	close(idle);
+	stop(fx);
+}
+
+/*
+ * All slots taken: a new client replaces the client behind (still sending a frame
+ * HL_STREAM_BEHIND_FRAMES older than the newest) that took no byte for longest; with no client
+ * behind it is refused, closed at once. The evicted client's connection ends after what was
+ * queued; the other one finishes its frame and gets the newest.
+ */
+static void stream_new_client_replaces_the_client_stalled_longest(void **state)
+{
+	struct fixture *fx = start(&big, 8, false, 2);
+	const size_t frame = HDR + (size_t)big.width * big.height * 8;
+	struct hl_stream_counts c;
+	int first, second, refused, third;
+	size_t got;
+	char b;
+	(void)state;
+
+	assert_int_equal(HL_STREAM_BEHIND_FRAMES, 3);
+	first = connect_unix(fx, 0);
+	wait_count(fx, accepted, 1);
+	publish(fx, 1);
+	wait_count(fx, frames_copied, 1); /* first stalls in frame 1 */
+	second = connect_unix(fx, 0);
+	wait_count(fx, accepted, 2);
+	wait_count(fx, frames_copied, 2); /* second too, later */
+	publish(fx, 2);
+	publish(fx, 3); /* two newer frames: not behind yet */
+	refused = connect_unix(fx, 0);
+	wait_count(fx, refused, 1);
+	assert_int_equal(recv(refused, &b, 1, 0), 0);
+	publish(fx, 4); /* three: both behind, first for longer */
+	wait_count(fx, clients_behind, 2);
+	third = connect_unix(fx, 0);
+	wait_count(fx, dropped[HL_STREAM_DROP_EVICTED], 1);
+	read_frame(third, &big, 4);
+	got = read_to_close(first);
+	assert_true(got > 0 && got < frame);
+	read_frame(second, &big, 1);
+	read_frame(second, &big, 4);
+	wait_count(fx, frames_sent, 3);
+	c = counts(fx);
+	assert_int_equal(c.accepted, 3);
+	assert_int_equal(c.refused, 1);
+	assert_int_equal(c.clients, 2);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_EVICTED], 1);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_STALLED], 0);
+	assert_int_equal(c.dropped[HL_STREAM_DROP_DISCONNECTED], 0);
+	assert_int_equal(c.frames_skipped, 2); /* second: 2 and 3 */
+	close(first);
+	close(second);
+	close(refused);
+	close(third);
+	stop(fx);
+}
+
 static void stream_new_rejects_bad_addresses(void **state)
 {
 	struct hl_frame_pool *pool;
@@ -504,12 +672,16 @@ static void stream_new_rejects_bad_addresses(void **state)
 	(void)state;
 
 	assert_int_equal(hl_frame_pool_new(2, &small, &pool), 0);
-	assert_int_equal(hl_stream_new("localhost", "", false, 1, pool, &s, err, sizeof(err)),
+	assert_int_equal(hl_stream_new("localhost", "", false, 1, 2000, pool, &s, err, sizeof(err)),
 			 -EINVAL);
 	assert_string_equal(err, "stream.tcp 'localhost': expected host:port");
-	assert_int_equal(hl_stream_new("127.0.0.1:0", "", false, 0, pool, &s, err, sizeof(err)),
+	assert_int_equal(hl_stream_new("127.0.0.1:0", "", false, 0, 2000, pool, &s, err,
+				       sizeof(err)),
 			 -EINVAL);
 	assert_string_equal(err, "stream.max_clients: expected 1..64");
+	assert_int_equal(hl_stream_new("127.0.0.1:0", "", false, 1, 0, pool, &s, err, sizeof(err)),
+			 -EINVAL);
+	assert_string_equal(err, "stream.stall_timeout_ms: expected >= 1, found 0");
 	assert_null(s);
 	hl_frame_pool_free(pool);
 }
@@ -525,6 +697,9 @@ int main(void)
 		cmocka_unit_test(stream_stalled_client_skips_and_never_stalls_the_publisher),
 		cmocka_unit_test(stream_disconnects_are_counted),
 		cmocka_unit_test(stream_rejects_clients_over_the_limit),
+		cmocka_unit_test(stream_client_that_sends_is_dropped),
+		cmocka_unit_test(stream_stalled_client_is_dropped_after_the_timeout),
+		cmocka_unit_test(stream_new_client_replaces_the_client_stalled_longest),
 		cmocka_unit_test(stream_new_rejects_bad_addresses),
 	};
 
