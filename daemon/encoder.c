@@ -39,6 +39,7 @@ struct hl_encoder {
 	uint64_t want[HL_IMAGE_KINDS]; /* the newest seq a request waits for */
 	uint64_t failed_seq[HL_IMAGE_KINDS]; /* the newest seq whose encode failed */
 	int waiting[HL_IMAGE_KINDS];
+	size_t stale_bytes; /* of images a newer one replaced, still being sent */
 	struct hl_encoder_counts c;
 };
 
@@ -189,8 +190,10 @@ static void *run(void *arg)
 			e->c.encoded[k]++;
 			old[k] = e->cur[k];
 			e->cur[k] = img[k];
-			if (old[k] && --old[k]->refs > 0)
+			if (old[k] && --old[k]->refs > 0) {
+				e->stale_bytes += old[k]->len;
 				old[k] = NULL; /* still sent: its last release frees it */
+			}
 		}
 		pthread_cond_broadcast(&e->done);
 		pthread_mutex_unlock(&e->lock);
@@ -329,7 +332,9 @@ int hl_encoder_get(struct hl_encoder *e, enum hl_image_kind kind, uint64_t want_
 			break;
 		}
 		if (!waits) {
-			if (e->waiting[kind] >= HL_ENCODER_MAX_WAITING) {
+			/* slow clients holding old images: no new one until they let go */
+			if (e->waiting[kind] >= HL_ENCODER_MAX_WAITING ||
+			    e->stale_bytes > HL_ENCODER_MAX_STALE_BYTES) {
 				e->c.busy++;
 				rc = -EBUSY;
 				break;
@@ -366,6 +371,8 @@ void hl_encoder_release(struct hl_image *img)
 	e = img->owner;
 	pthread_mutex_lock(&e->lock);
 	last = --img->refs == 0;
+	if (last)
+		e->stale_bytes -= img->len; /* the newest is never freed here: it holds a ref */
 	pthread_mutex_unlock(&e->lock);
 	if (last)
 		image_free(img);

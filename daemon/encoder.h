@@ -27,6 +27,8 @@
 
 #define HL_ENCODER_NICE 10 /* the encoder thread's nice value */
 #define HL_ENCODER_MAX_WAITING 16 /* requests waiting for an encode of one kind, at most */
+/* bytes of replaced images that slow clients still hold; beyond it no new image is encoded */
+#define HL_ENCODER_MAX_STALE_BYTES (64u << 20)
 #define HL_ENCODER_JPEG_QUALITY 85
 
 enum hl_image_kind {
@@ -52,7 +54,9 @@ struct hl_image {
 struct hl_encoder_counts {
 	uint64_t encoded[HL_IMAGE_KINDS]; /* images encoded, by kind */
 	uint64_t failed; /* encodes that failed (the requests are answered 500) */
-	uint64_t busy; /* requests refused: HL_ENCODER_MAX_WAITING already waited for that kind */
+	/* requests refused: HL_ENCODER_MAX_WAITING already waited for that kind, or slow clients
+	 * held more than HL_ENCODER_MAX_STALE_BYTES of replaced images */
+	uint64_t busy;
 	uint64_t timeouts; /* requests whose image did not come within their timeout */
 };
 
@@ -69,7 +73,8 @@ void hl_encoder_free(struct hl_encoder *enc);
 
 /*
  * The image of kind of a frame with seq >= want_seq (want_seq >= 1: a published frame), waiting
- * up to timeout_ms for its encode: 0 and a reference in *ret; -EBUSY (too many waiting), -ETIMEDOUT,
+ * up to timeout_ms for its encode: 0 and a reference in *ret; -EBUSY (too many waiting, or too
+ * many bytes of replaced images still held), -ETIMEDOUT,
  * -EIO (the encode failed), -ESHUTDOWN. Each refusal and timeout is counted.
  */
 int hl_encoder_get(struct hl_encoder *enc, enum hl_image_kind kind, uint64_t want_seq,
