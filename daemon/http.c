@@ -31,8 +31,9 @@
 struct conn {
 	bool used;
 	bool awaiting; /* waits for a request's headers (since since_ns) */
-	int fd; /* MHD's; valid while used (MHD closes it after telling us) */
+	int fd; /* MHD's: checked against peer before it is shut down */
 	uint8_t addr[16]; /* the peer's IPv4 or IPv6 address */
+	struct sockaddr_storage peer; /* and port */
 	int64_t since_ns;
 };
 
@@ -484,6 +485,20 @@ static void addr_key(const struct sockaddr *sa, uint8_t key[16])
 }
 
 /*
+ * Shuts the connection down (MHD then closes it). Only if its fd still has this peer: should
+ * MHD close an fd before it tells us, a new connection could have its number.
+ */
+static void shut_down(const struct conn *k)
+{
+	struct sockaddr_storage peer = { 0 };
+	socklen_t len = sizeof(peer);
+
+	if (getpeername(k->fd, (struct sockaddr *)&peer, &len) == 0 &&
+	    memcmp(&peer, &k->peer, sizeof(peer)) == 0)
+		shutdown(k->fd, SHUT_RDWR);
+}
+
+/*
  * MHD's accept policy, on its listen thread before each new connection: first closes the
  * connections past their header deadline (shutdown: MHD then closes them), then refuses this
  * one if the limits are reached. Both counted.
@@ -506,7 +521,7 @@ static enum MHD_Result accept_policy(void *cls, const struct sockaddr *sa, sockl
 			continue;
 		if (k->awaiting &&
 		    now - k->since_ns > (int64_t)HL_HTTP_HEADER_TIMEOUT_S * 1000000000) {
-			shutdown(k->fd, SHUT_RDWR);
+			shut_down(k);
 			k->awaiting = false;
 			h->header_timeouts++;
 		}
@@ -543,6 +558,9 @@ static void notify_connection(void *cls, struct MHD_Connection *c, void **socket
 					    .fd = fd->connect_fd,
 					    .since_ns = now_ns() };
 			addr_key(addr->client_addr, k->addr);
+			if (getpeername(k->fd, (struct sockaddr *)&k->peer,
+					&(socklen_t){ sizeof(k->peer) }) < 0)
+				k->fd = -1; /* never shut down */
 			h->open++;
 			*socket_context = k;
 		}
@@ -554,7 +572,7 @@ static void notify_connection(void *cls, struct MHD_Connection *c, void **socket
 	pthread_mutex_unlock(&h->lock);
 }
 
-/* A request's headers are in (awaiting false), or its answer was sent: the next one's wait starts. */
+/* A whole request is in (awaiting false), or its answer was sent: the next one's wait starts. */
 static void set_awaiting(struct hl_http *h, struct MHD_Connection *c, bool awaiting)
 {
 	const union MHD_ConnectionInfo *ci =
@@ -608,7 +626,6 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *u
 	/* A request with a body: answer once all of it is read (and dropped). */
 	if (!*req_cls) {
 		*req_cls = &body_seen;
-		set_awaiting(h, c, false);
 		if (is_post || *upload_size)
 			return MHD_YES;
 	}
@@ -616,6 +633,7 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *u
 		*upload_size = 0;
 		return MHD_YES;
 	}
+	set_awaiting(h, c, false); /* the whole request is in, body included */
 	for (size_t i = 0; i < sizeof(routes) / sizeof(routes[0]); i++)
 		if (strcmp(url, routes[i].path) == 0)
 			r = &routes[i];

@@ -26,9 +26,9 @@
  * has taken the previous one: a slow client skips frames (counted) and holds one shared JPEG;
  * it never delays the renderer or another client. Limits, each refusal counted: at most
  * HL_HTTP_MAX_CONNECTIONS connections, HL_HTTP_MAX_PER_ADDRESS from one address,
- * HL_HTTP_MAX_STREAMS streams; a connection whose request headers are not complete
- * HL_HTTP_HEADER_TIMEOUT_S after it opened (or after its previous answer) is closed when the
- * next connection is accepted; one that takes nothing for HL_HTTP_IDLE_TIMEOUT_S is closed by
+ * HL_HTTP_MAX_STREAMS streams; a connection whose request (headers and any body) is not
+ * complete HL_HTTP_HEADER_TIMEOUT_S after it opened (or after its previous answer) is closed
+ * when the next connection is accepted; one that takes nothing for HL_HTTP_IDLE_TIMEOUT_S is closed by
  * libmicrohttpd. Closing the pool (hl_frame_pool_close) ends every stream.
  *
  * Thread-safety: hl_http_new, hl_http_start, hl_http_free from one thread; hl_http_counts,
@@ -51,7 +51,7 @@
 /* from one address: above what a local slowloris of 200 takes, so that /status still gets in */
 #define HL_HTTP_MAX_PER_ADDRESS 256
 #define HL_HTTP_MAX_STREAMS 16 /* MJPEG streams at once (<= HL_ENCODER_MAX_WAITING) */
-#define HL_HTTP_HEADER_TIMEOUT_S 10 /* to send a complete request's headers */
+#define HL_HTTP_HEADER_TIMEOUT_S 10 /* to send a whole request: headers and any body */
 #define HL_HTTP_IDLE_TIMEOUT_S 30 /* a connection that takes nothing for this long is closed */
 #define HL_HTTP_ENCODE_WAIT_MS 2000 /* longest a request waits for its image */
 #define HL_HTTP_NICE 19 /* the server threads' nice value */
@@ -85,7 +85,7 @@ struct hl_http_counts {
 	uint64_t overloaded;
 	uint64_t connections; /* open now */
 	uint64_t connections_refused; /* closed at once: a connection limit was reached */
-	uint64_t header_timeouts; /* closed: no complete request within HL_HTTP_HEADER_TIMEOUT_S */
+	uint64_t header_timeouts; /* closed: no whole request within HL_HTTP_HEADER_TIMEOUT_S */
 	uint64_t encoded[HL_IMAGE_KINDS]; /* images encoded, by kind */
 	uint64_t encode_failures;
 	uint64_t mjpeg_clients; /* streams open now */

@@ -138,7 +138,7 @@ static void http_metrics(struct hl_http *h, struct hl_prom *p)
 		  "HTTP connections closed at once: the connection limit or the per-address one.",
 		  offsetof(struct hl_http_counts, connections_refused) },
 		{ "hdlamp_http_header_timeouts_total",
-		  "HTTP connections closed: no complete request headers in time.",
+		  "HTTP connections closed: no whole request (headers, body) within 10 s.",
 		  offsetof(struct hl_http_counts, header_timeouts) },
 		{ "hdlamp_http_mjpeg_frames_sent_total", "JPEG parts sent, all MJPEG streams.",
 		  offsetof(struct hl_http_counts, mjpeg_frames_sent) },

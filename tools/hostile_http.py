@@ -107,6 +107,8 @@ def main():
     ap.add_argument("--conns", type=int, default=50)
     ap.add_argument("--slowloris", type=int, metavar="N", help="N slowloris connections")
     ap.add_argument("--idle", action="store_true", help="no load: the baseline")
+    ap.add_argument("--load-nice", type=int, default=0, metavar="N",
+                    help="run wrk at nice N (default 0: it competes with the renderer)")
     ap.add_argument("--seconds", type=int, default=30)
     ap.add_argument("--size", default="160x90", help="render.size (default 160x90)")
     a = ap.parse_args()
@@ -158,14 +160,14 @@ def main():
     threading.Thread(target=sample, daemon=True).start()
     rss_start = rss_kb(p.pid)["VmRSS"]
     before = status(hport)
-    out = {"load": f"wrk -c{a.conns} {a.wrk}" if a.wrk else
+    out = {"load": f"wrk -c{a.conns} {a.wrk} (nice {a.load_nice})" if a.wrk else
            f"slowloris {a.slowloris}" if a.slowloris else "none",
            "seconds": a.seconds, "size": a.size}
     if a.wrk:
         script = os.path.join(tmp, "status.lua")
         with open(script, "w") as f:
             f.write(LUA)
-        r = subprocess.run(["wrk", "-t2", f"-c{a.conns}", f"-d{a.seconds}s", "--timeout", "10s",
+        r = subprocess.run(["nice", "-n", str(a.load_nice), "wrk", "-t2", f"-c{a.conns}", f"-d{a.seconds}s", "--timeout", "10s",
                             "-s", script, f"http://127.0.0.1:{hport}{a.wrk}"],
                            capture_output=True, text=True)
         out["wrk_statuses"] = {m[0]: int(m[1]) for m in
@@ -216,8 +218,8 @@ def main():
         "cycles_not_rendered": {n: lamp(after, n, "cycles_not_rendered") -
                                 lamp(before, n, "cycles_not_rendered") for n in ("left", "right")},
         "frames_not_published": after["frames"]["not_published"] - before["frames"]["not_published"],
-        "http": {k: after["http"][k] - before["http"][k] if isinstance(after["http"][k], int)
-                 else after["http"][k] for k in after["http"]},
+        "http": {k: v - before["http"][k] if isinstance(v, int) else v
+                 for k, v in after.get("http", {}).items()},
         "rss_kb": {"start": rss_start, "max_sampled": rss_max, **rss_kb(p.pid)},
     })
     t0 = time.monotonic()
