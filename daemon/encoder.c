@@ -313,6 +313,9 @@ int hl_encoder_get(struct hl_encoder *e, enum hl_image_kind kind, uint64_t want_
 	bool waits = false;
 	int rc = 0;
 
+	/* nothing newer to encode would ever come for it: the encoder would spin */
+	if (want_seq < 1 || want_seq > hl_encoder_newest(e) || kind >= HL_IMAGE_KINDS)
+		return -EINVAL;
 	deadline(timeout_ms, &until);
 	pthread_mutex_lock(&e->lock);
 	for (;;) {

@@ -72,7 +72,8 @@ void hl_encoder_stop(struct hl_encoder *enc);
 void hl_encoder_free(struct hl_encoder *enc);
 
 /*
- * The image of kind of a frame with seq >= want_seq (want_seq >= 1: a published frame), waiting
+ * The image of kind of a frame with seq >= want_seq (1 <= want_seq <= hl_encoder_newest, else
+ * -EINVAL: a frame seen in the pool is always <= it), waiting
  * up to timeout_ms for its encode: 0 and a reference in *ret; -EBUSY (too many waiting, or too
  * many bytes of replaced images still held), -ETIMEDOUT,
  * -EIO (the encode failed), -ESHUTDOWN. Each refusal and timeout is counted.
