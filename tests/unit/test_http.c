@@ -883,6 +883,36 @@ static void http_capture_only_when_allowed(void **state)
 	stop(fx);
 }
 
+/* HL_HTTP_MAX_STREAMS streams share one JPEG per frame; one more is a counted 503. */
+static void http_streams_share_one_jpeg_and_are_limited(void **state)
+{
+	struct fixture *fx = start(false);
+	static uint8_t jpeg[1 << 18];
+	struct reader *rd[HL_HTTP_MAX_STREAMS];
+	struct hl_http_counts c;
+	struct response r;
+	char v[64];
+	size_t len;
+
+	(void)state;
+	publish(fx->pool);
+	for (int i = 0; i < HL_HTTP_MAX_STREAMS; i++) {
+		rd[i] = open_stream(fx->port, 0, true);
+		assert_int_equal(read_part(rd[i], jpeg, sizeof(jpeg), &len), 1);
+	}
+	check(fx->port, "GET", "/stream.mjpg", 503, "application/json", &r);
+	assert_string_equal(header(r.head, "Retry-After", v, sizeof(v)), "1");
+	free(r.body);
+	hl_http_counts(fx->http, &c);
+	assert_int_equal(c.mjpeg_clients, HL_HTTP_MAX_STREAMS);
+	assert_int_equal(c.overloaded, 1);
+	assert_int_equal(c.encoded[HL_IMAGE_JPEG], 1); /* one JPEG for all the streams */
+	assert_int_equal(c.connections_refused + c.header_timeouts, 0);
+	for (int i = 0; i < HL_HTTP_MAX_STREAMS; i++)
+		close_stream(rd[i]);
+	stop(fx);
+}
+
 static void http_free_ends_streams_promptly(void **state)
 {
 	struct fixture *fx = start(false);
@@ -958,6 +988,7 @@ int main(void)
 		cmocka_unit_test(http_mjpeg_stream_follows_the_publisher),
 		cmocka_unit_test(http_stalled_stream_client_delays_nobody),
 		cmocka_unit_test(http_capture_only_when_allowed),
+		cmocka_unit_test(http_streams_share_one_jpeg_and_are_limited),
 		cmocka_unit_test(http_free_ends_streams_promptly),
 		cmocka_unit_test(http_closed_pool_ends_streams),
 	};
