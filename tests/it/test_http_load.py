@@ -273,6 +273,35 @@ def test_slowloris_does_not_starve_status(daemon):
     assert after["http"]["connections_refused"] == before["http"]["connections_refused"]
 
 
+def test_per_address_limit_refuses_and_counts(daemon):
+    """256 connections from 127.0.0.1 (the per-address limit) are served; the 257th is closed
+    at once and counted (read from the summary at exit: /status could not get in either)."""
+    socks = []
+    try:
+        for _ in range(257):
+            s = socket.create_connection(("127.0.0.1", daemon.http_port), timeout=10)
+            s.sendall(b"GET /status HTTP/1.1\r\n")
+            socks.append(s)
+        closed = []
+        for i, s in enumerate(socks):
+            s.settimeout(0.05 if i < 256 else 5)
+            try:
+                if s.recv(64) == b"":
+                    closed.append(i)
+            except socket.timeout:
+                pass
+            except ConnectionResetError:
+                closed.append(i)
+        code, _, summary = daemon.stop()
+    finally:
+        for s in socks:
+            s.close()
+    assert closed == [256]
+    assert code == 0
+    assert summary["http"]["connections_refused"] == 1
+    assert summary["http"]["header_timeouts"] == 0
+
+
 @pytest.mark.skipif(WRK is None, reason="wrk is not installed")
 def test_sigterm_under_load_exits_cleanly(daemon):
     reader = Reader(daemon.stream_port)
