@@ -482,7 +482,7 @@ static int setup_outputs(struct live *lv)
 		.log = stderr,
 	};
 	char err[512];
-	int rc;
+	int rc = 0;
 
 	for (int l = 0; l < lv->n_lamps; l++) {
 		cq.scene.lamp_names[l] = lv->lamp_names[l];
@@ -509,9 +509,6 @@ static int setup_outputs(struct live *lv)
 	}
 	ss.stream = lv->stream;
 	ss.captures = lv->captures;
-	rc = hl_status_new(&ss, lv->cfg.failsafe, &lv->status);
-	if (rc < 0)
-		return rc;
 	if (lv->cfg.http_listen[0]) {
 		struct hl_http_sources src = {
 			.pool = lv->pool,
@@ -527,15 +524,20 @@ static int setup_outputs(struct live *lv)
 		for (int l = 0; l < lv->n_lamps; l++)
 			hl_lamp_pose_default(l, &lv->exr_info.lamps[l]);
 		rc = hl_http_new(lv->cfg.http_listen, lv->cfg.http_capture, &src, &lv->http);
-		if (rc < 0) {
-			log_msg("http.listen '%s': %s", lv->cfg.http_listen, strerror(-rc));
-			return rc;
-		}
+		ss.http = lv->http; /* made before the status that reads it, started after */
+	}
+	rc = rc < 0 ? rc : hl_status_new(&ss, lv->cfg.failsafe, &lv->status);
+	rc = rc < 0 || !lv->http ? rc : hl_http_start(lv->http);
+	if (rc < 0 && lv->cfg.http_listen[0] && (!lv->http || lv->status)) /* not the status' */
+		log_msg("http.listen '%s': %s", lv->cfg.http_listen, strerror(-rc));
+	if (rc == 0 && lv->http && !hl_http_loopback(lv->http))
+		log_msg("warning: http.listen '%s' is not a loopback address: other hosts can connect",
+			lv->cfg.http_listen);
+	if (rc == 0 && lv->http)
 		log_msg("live view on http://%s/ (port %u)%s", lv->cfg.http_listen,
 			hl_http_port(lv->http),
 			lv->cfg.http_capture ? ", POST /capture allowed" : "");
-	}
-	return 0;
+	return rc;
 }
 
 static int setup(struct live *lv)
@@ -595,7 +597,7 @@ static void teardown(struct live *lv)
 		hl_can_input_stop(lv->in);
 	if (lv->pool)
 		hl_frame_pool_close(lv->pool);
-	hl_http_free(lv->http);
+	hl_http_stop(lv->http);
 	hl_capture_queue_free(lv->captures); /* before the G-buffer, grids and verdicts it reads */
 	hl_pipeline_free(lv->pipe); /* stopped first: nothing publishes any more */
 	hl_stream_free(lv->stream);
@@ -603,6 +605,7 @@ static void teardown(struct live *lv)
 		hl_frame_pool_unsubscribe(lv->pool, strobe, lv->gpio);
 	hl_gpio_free(lv->gpio);
 	hl_status_free(lv->status);
+	hl_http_free(lv->http); /* after the status that reads its counters */
 	hl_verdicts_free(lv->verdicts); /* after the pipeline and the status that read it */
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);
@@ -772,8 +775,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		/* quiesce, then report: the counters no longer move */
 		hl_can_input_stop(lv.in);
 		hl_frame_pool_close(lv.pool);
-		hl_http_free(lv.http);
-		lv.http = NULL;
+		hl_http_stop(lv.http); /* freed after the status that reads it */
 		if (lv.captures) /* what was asked for is written and counted */
 			hl_capture_queue_stop(lv.captures);
 		hl_pipeline_stop(lv.pipe);

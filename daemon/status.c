@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <inttypes.h>
+#include <stddef.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -139,6 +140,76 @@ static void stream_metrics(struct hl_prom *p, const struct hl_stream_counts *c)
 	hl_prom_counter(p, "hdlamp_stream_input_reads_total", NULL, c->input_reads);
 }
 
+static const char *const image_kinds[HL_IMAGE_KINDS] = { "jpeg", "png", "exr" };
+
+/* The HTTP server's counters (daemon/http.h, docs/daemon.md "HTTP live view"). */
+static void http_json(struct hl_http *h, FILE *f)
+{
+	struct hl_http_counts c;
+
+	hl_http_counts(h, &c);
+	fprintf(f,
+		",\"http\":{\"requests\":%" PRIu64 ",\"errors\":%" PRIu64 ",\"overloaded\":%" PRIu64
+		",\"connections\":%" PRIu64 ",\"connections_refused\":%" PRIu64
+		",\"header_timeouts\":%" PRIu64 ",\"mjpeg_clients\":%" PRIu64
+		",\"mjpeg_frames_sent\":%" PRIu64 ",\"mjpeg_frames_skipped\":%" PRIu64
+		",\"encode_failures\":%" PRIu64 ",\"encoded\":{",
+		c.requests, c.errors, c.overloaded, c.connections, c.connections_refused,
+		c.header_timeouts, c.mjpeg_clients, c.mjpeg_frames_sent, c.mjpeg_frames_skipped,
+		c.encode_failures);
+	for (int k = 0; k < HL_IMAGE_KINDS; k++)
+		fprintf(f, "%s\"%s\":%" PRIu64, k ? "," : "", image_kinds[k], c.encoded[k]);
+	fputs("}}", f);
+}
+
+static void http_metrics(struct hl_http *h, struct hl_prom *p)
+{
+	static const struct {
+		const char *name, *help;
+		size_t off;
+	} counters[] = {
+		{ "hdlamp_http_requests_total", "HTTP requests answered, any status.",
+		  offsetof(struct hl_http_counts, requests) },
+		{ "hdlamp_http_errors_total", "HTTP requests answered 4xx or 5xx.",
+		  offsetof(struct hl_http_counts, errors) },
+		{ "hdlamp_http_overloaded_total",
+		  "HTTP requests answered 503 with Retry-After: too many waited for an image, "
+		  "its encode took too long, or too many streams were open.",
+		  offsetof(struct hl_http_counts, overloaded) },
+		{ "hdlamp_http_connections_refused_total",
+		  "HTTP connections closed at once: the connection limit or the per-address one.",
+		  offsetof(struct hl_http_counts, connections_refused) },
+		{ "hdlamp_http_header_timeouts_total",
+		  "HTTP connections closed: no whole request (headers, body) within 10 s.",
+		  offsetof(struct hl_http_counts, header_timeouts) },
+		{ "hdlamp_http_mjpeg_frames_sent_total", "JPEG parts sent, all MJPEG streams.",
+		  offsetof(struct hl_http_counts, mjpeg_frames_sent) },
+		{ "hdlamp_http_mjpeg_frames_skipped_total",
+		  "Published frames an MJPEG stream did not get: it was slower.",
+		  offsetof(struct hl_http_counts, mjpeg_frames_skipped) },
+		{ "hdlamp_http_encode_failures_total", "Image encodes that failed.",
+		  offsetof(struct hl_http_counts, encode_failures) },
+	};
+	struct hl_http_counts c;
+
+	hl_http_counts(h, &c);
+	for (size_t i = 0; i < sizeof(counters) / sizeof(counters[0]); i++) {
+		hl_prom_family(p, counters[i].name, HL_PROM_COUNTER, counters[i].help);
+		hl_prom_counter(p, counters[i].name, NULL,
+				*(const uint64_t *)((const char *)&c + counters[i].off));
+	}
+	hl_prom_family(p, "hdlamp_http_images_encoded_total", HL_PROM_COUNTER,
+		       "Images encoded for HTTP, each at most once per published frame.");
+	for (int k = 0; k < HL_IMAGE_KINDS; k++)
+		hl_prom_counter(p, "hdlamp_http_images_encoded_total",
+				(const char *const[]){ "kind", image_kinds[k], NULL },
+				c.encoded[k]);
+	hl_prom_family(p, "hdlamp_http_connections", HL_PROM_GAUGE, "HTTP connections open.");
+	hl_prom_gauge(p, "hdlamp_http_connections", NULL, (double)c.connections);
+	hl_prom_family(p, "hdlamp_http_mjpeg_clients", HL_PROM_GAUGE, "MJPEG streams open.");
+	hl_prom_gauge(p, "hdlamp_http_mjpeg_clients", NULL, (double)c.mjpeg_clients);
+}
+
 int hl_status_json(struct hl_status *st, char *buf, size_t size)
 {
 	const struct hl_status_sources *s = &st->src;
@@ -192,6 +263,8 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 			",\"trigger_edges\":%" PRIu64 ",\"trigger_lost\":%" PRIu64 "}",
 			gc.strobe_toggles, gc.strobe_errors, gc.trigger_edges, gc.trigger_lost);
 	}
+	if (s->http)
+		http_json(s->http, f);
 	if (s->verdicts && s->pipe && s->pool) {
 		/* the newest frame's results, held while they are written */
 		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);
@@ -284,6 +357,8 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 			       "Time to render a frame (seconds).");
 		hl_prom_histogram(&p, "hdlamp_render_seconds", NULL, &v.pc.render_seconds);
 	}
+	if (s->http)
+		http_metrics(s->http, &p);
 	if (s->verdicts && s->pipe && s->pool) {
 		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);
 

@@ -21,6 +21,7 @@
 #include "daemon/config.h"
 #include "daemon/frame_pool.h"
 #include "daemon/gpio.h"
+#include "daemon/http.h"
 #include "daemon/pipeline.h"
 #include "daemon/ring.h"
 #include "daemon/stream.h"
@@ -38,6 +39,7 @@ struct hl_status_sources {
 	struct hl_stream *stream;
 	struct hl_gpio *gpio;
 	struct hl_capture_queue *captures;
+	struct hl_http *http; /* its counters: "http" in the JSON, hdlamp_http_* in the metrics */
 	const struct hl_verdicts *verdicts; /* with pipe and pool: the newest frame's verdicts */
 };
 

@@ -60,7 +60,8 @@ class Daemon:
             m = re.search(r"live view on http://.*\(port (\d+)\)", line)
             if m:
                 self.http_port = int(m.group(1))
-        threading.Thread(target=lambda: self.log.extend(self.p.stderr), daemon=True).start()
+        self.reader = threading.Thread(target=lambda: self.log.extend(self.p.stderr), daemon=True)
+        self.reader.start()
 
     def request(self, path, method="GET", timeout=120):
         """(HTTP status, body text); a generous timeout for a hang, not a speed."""
@@ -95,8 +96,10 @@ class Daemon:
 
     def stop(self):
         self.p.send_signal(signal.SIGTERM)
-        out, _ = self.p.communicate(timeout=60)
-        assert self.p.returncode == 0, self.log
+        # stdout holds the summary only; stderr belongs to the reader thread until its EOF
+        out = self.p.stdout.read()
+        assert self.p.wait(60) == 0, self.log
+        self.reader.join(10)
         return json.loads(out.strip().splitlines()[-1])
 
 

@@ -196,6 +196,7 @@ static struct fixture *start(bool allow_capture)
 	src.metrics = metrics;
 	src.capture = capture;
 	assert_int_equal(hl_http_new("127.0.0.1:0", allow_capture, &src, &fx->http), 0);
+	assert_int_equal(hl_http_start(fx->http), 0);
 	fx->port = hl_http_port(fx->http);
 	assert_true(fx->port > 0);
 	return fx;
@@ -492,8 +493,9 @@ static void http_new_rejects_bad_input_and_a_busy_port(void **state)
 	assert_int_equal(hl_http_new("127.0.0.1:0", false, &src, &h), -EINVAL);
 	src.pool = fx->pool;
 	snprintf(listen, sizeof(listen), "127.0.0.1:%u", fx->port);
-	assert_int_equal(hl_http_new(listen, false, &src, &h), -EADDRINUSE);
-	assert_null(h);
+	assert_int_equal(hl_http_new(listen, false, &src, &h), 0);
+	assert_int_equal(hl_http_start(h), -EADDRINUSE);
+	hl_http_free(h);
 	hl_http_free(NULL);
 	stop(fx);
 }
@@ -650,6 +652,7 @@ static void http_hdr_frames_are_tone_mapped(void **state)
 	assert_int_equal(hl_frame_pool_new(2, &shape, &pool), 0);
 	src.pool = pool;
 	assert_int_equal(hl_http_new("127.0.0.1:0", false, &src, &http), 0);
+	assert_int_equal(hl_http_start(http), 0);
 	f = hl_frame_pool_acquire(pool);
 	assert_non_null(f);
 	for (int i = 0; i < 8; i++) {
@@ -911,6 +914,36 @@ static void http_capture_failure_says_why(void **state)
 	stop(fx);
 }
 
+/* HL_HTTP_MAX_STREAMS streams share one JPEG per frame; one more is a counted 503. */
+static void http_streams_share_one_jpeg_and_are_limited(void **state)
+{
+	struct fixture *fx = start(false);
+	static uint8_t jpeg[1 << 18];
+	struct reader *rd[HL_HTTP_MAX_STREAMS];
+	struct hl_http_counts c;
+	struct response r;
+	char v[64];
+	size_t len;
+
+	(void)state;
+	publish(fx->pool);
+	for (int i = 0; i < HL_HTTP_MAX_STREAMS; i++) {
+		rd[i] = open_stream(fx->port, 0, true);
+		assert_int_equal(read_part(rd[i], jpeg, sizeof(jpeg), &len), 1);
+	}
+	check(fx->port, "GET", "/stream.mjpg", 503, "application/json", &r);
+	assert_string_equal(header(r.head, "Retry-After", v, sizeof(v)), "1");
+	free(r.body);
+	hl_http_counts(fx->http, &c);
+	assert_int_equal(c.mjpeg_clients, HL_HTTP_MAX_STREAMS);
+	assert_int_equal(c.overloaded, 1);
+	assert_int_equal(c.encoded[HL_IMAGE_JPEG], 1); /* one JPEG for all the streams */
+	assert_int_equal(c.connections_refused + c.header_timeouts, 0);
+	for (int i = 0; i < HL_HTTP_MAX_STREAMS; i++)
+		close_stream(rd[i]);
+	stop(fx);
+}
+
 static void http_free_ends_streams_promptly(void **state)
 {
 	struct fixture *fx = start(false);
@@ -987,6 +1020,7 @@ int main(void)
 		cmocka_unit_test(http_stalled_stream_client_delays_nobody),
 		cmocka_unit_test(http_capture_only_when_allowed),
 		cmocka_unit_test(http_capture_failure_says_why),
+		cmocka_unit_test(http_streams_share_one_jpeg_and_are_limited),
 		cmocka_unit_test(http_free_ends_streams_promptly),
 		cmocka_unit_test(http_closed_pool_ends_streams),
 	};
