@@ -38,6 +38,7 @@ struct hl_can_input_config {
 	bool replay_fast; /* as fast as possible instead of the log's timing */
 	bool replay_loop;
 	FILE *log; /* where the thread logs rare events (malformed log lines), e.g. stderr */
+	int rt_priority; /* SCHED_FIFO priority the thread sets itself to; 0: none (sched.h) */
 };
 
 struct hl_can_input;

@@ -575,6 +575,7 @@ static int setup(struct live *lv)
 			.replay_fast = lv->cfg.replay_fast,
 			.replay_loop = lv->cfg.replay_loop,
 			.log = stderr,
+			.rt_priority = lv->cfg.rt_priority,
 		};
 
 		rc = hl_can_input_new(&icfg, lv->a, lv->ring, &lv->in);

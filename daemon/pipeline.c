@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "daemon/clock.h"
+#include "daemon/sched.h"
 #include "render/egl.h"
 #include "render/pixel.h"
 #include "render/renderer.h"
@@ -500,7 +501,12 @@ static void *thread_main(void *arg)
 	const int64_t coalesce_ns = (int64_t)(p->cfg.coalesce_ms * 1e6);
 	int64_t next_ns = hl_clock_monotonic_ns();
 	bool have = false;
-	int rc = setup(p);
+	int rc;
+
+	/* before setup: the helpers the renderer creates inherit the policy */
+	pthread_setname_np(pthread_self(), "hl-render");
+	hl_sched_start_thread("render", p->cfg.rt_priority, stderr);
+	rc = setup(p);
 
 	pthread_mutex_lock(&p->lock);
 	p->start_rc = rc;

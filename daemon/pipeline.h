@@ -75,7 +75,8 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 void hl_pipeline_free(struct hl_pipeline *p);
 
 /*
- * Starts the render thread and waits until it has an EGL context and a renderer (or failed:
+ * Starts the render thread (named hl-render, at SCHED_FIFO cfg->rt_priority when that is > 0,
+ * daemon/sched.h) and waits until it has an EGL context and a renderer (or failed:
  * then err says why). 0, -errno.
  */
 int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size);
