@@ -33,15 +33,48 @@ static bool seccomp_filtered(void)
 	return mode == 2;
 }
 
+/* The calling thread's policy, and its real-time priority (0 for the others). */
+static int current_policy(int *ret_priority)
+{
+	struct sched_param sp = { 0 };
+	int policy = SCHED_OTHER;
+
+	pthread_getschedparam(pthread_self(), &policy, &sp);
+	*ret_priority = sp.sched_priority;
+	return policy;
+}
+
+static const char *policy_name(int policy)
+{
+	switch (policy) {
+	case SCHED_OTHER:
+		return "SCHED_OTHER";
+	case SCHED_FIFO:
+		return "SCHED_FIFO";
+	case SCHED_RR:
+		return "SCHED_RR";
+	case SCHED_BATCH:
+		return "SCHED_BATCH";
+	case SCHED_IDLE:
+		return "SCHED_IDLE";
+	default:
+		return "an unknown policy";
+	}
+}
+
 void hl_sched_explain(int rc, int priority, char *buf, size_t size)
 {
 	struct rlimit rl;
+	int cur_priority;
 
 	if (rc != -EPERM) {
 		snprintf(buf, size, "%s", strerror(-rc));
 		return;
 	}
-	if (getrlimit(RLIMIT_RTPRIO, &rl) == 0 && rl.rlim_cur < (rlim_t)priority) {
+	/* the kernel lets a thread keep or lower a real-time priority it has, whatever the limit */
+	current_policy(&cur_priority);
+	if (getrlimit(RLIMIT_RTPRIO, &rl) == 0 && rl.rlim_cur < (rlim_t)priority &&
+	    cur_priority < priority) {
 		snprintf(buf, size,
 			 "%s: RLIMIT_RTPRIO is %llu, below %d, and no CAP_SYS_NICE (raise it with "
 			 "LimitRTPRIO= in the unit, ulimit -r or prlimit --rtprio)",
@@ -58,7 +91,7 @@ void hl_sched_explain(int rc, int priority, char *buf, size_t size)
 int hl_sched_start_thread(const char *thread, int priority, FILE *log)
 {
 	char why[256];
-	int rc;
+	int rc, policy, cur_priority;
 
 	if (priority == 0)
 		return 0;
@@ -69,9 +102,12 @@ int hl_sched_start_thread(const char *thread, int priority, FILE *log)
 		return 0;
 	}
 	hl_sched_explain(rc, priority, why, sizeof(why));
+	policy = current_policy(&cur_priority);
+	if (policy == SCHED_FIFO || policy == SCHED_RR)
+		snprintf(why + strlen(why), sizeof(why) - strlen(why), "; it keeps %s %d",
+			 policy_name(policy), cur_priority);
 	fprintf(log,
-		"hdlampd: sched: warning: the %s thread stays at SCHED_OTHER: SCHED_FIFO %d "
-		"refused: %s\n",
-		thread, priority, why);
+		"hdlampd: sched: warning: the %s thread stays at %s: SCHED_FIFO %d refused: %s\n",
+		thread, policy_name(policy), priority, why);
 	return rc;
 }

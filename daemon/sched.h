@@ -25,13 +25,15 @@ int hl_sched_realtime(int priority);
 
 /*
  * Why hl_sched_realtime(priority) returned rc, as a phrase for a log line: the calling
- * process's RLIMIT_RTPRIO when it is below the priority, else a seccomp filter if one is on.
+ * process's RLIMIT_RTPRIO when it is below the priority (and the thread has no real-time
+ * priority that high already, which the kernel would let it keep), else a seccomp filter if
+ * one is on.
  */
 void hl_sched_explain(int rc, int priority, char *buf, size_t size);
 
 /*
  * The threads' start: with priority > 0, sets SCHED_FIFO and logs one line to log, naming the
- * thread ("render", "CAN"): the policy it now has, or why it stays at SCHED_OTHER. Nothing with
+ * thread ("render", "CAN"): the policy it now has, or the one it keeps and why. Nothing with
  * priority 0. Returns hl_sched_realtime's result (0 with priority 0).
  */
 int hl_sched_start_thread(const char *thread, int priority, FILE *log);

@@ -138,6 +138,37 @@ static void sched_explain_other_errors_by_name(void **state)
 	assert_string_equal(buf, "No such process");
 }
 
+/* A thread already at FIFO 10 may keep 10 whatever RLIMIT_RTPRIO says: not the reason then. */
+static void *explain_at_fifo(void *arg)
+{
+	char *buf = arg;
+
+	if (hl_sched_realtime(10) < 0)
+		snprintf(buf, 256, "(not allowed here)");
+	else
+		hl_sched_explain(-EPERM, 10, buf, 256);
+	return NULL;
+}
+
+static void sched_explain_skips_rlimit_for_a_priority_already_held(void **state)
+{
+	struct rlimit old, rl;
+	char buf[256];
+	pthread_t t;
+	(void)state;
+
+	assert_int_equal(getrlimit(RLIMIT_RTPRIO, &old), 0);
+	rl = (struct rlimit){ .rlim_cur = 0, .rlim_max = old.rlim_max };
+	assert_int_equal(setrlimit(RLIMIT_RTPRIO, &rl), 0);
+	assert_int_equal(pthread_create(&t, NULL, explain_at_fifo, buf), 0);
+	assert_int_equal(pthread_join(t, NULL), 0);
+	assert_int_equal(setrlimit(RLIMIT_RTPRIO, &old), 0);
+	if (strcmp(buf, "(not allowed here)") == 0)
+		skip(); /* neither CAP_SYS_NICE nor RLIMIT_RTPRIO >= 10 to get there */
+	assert_null(strstr(buf, "RLIMIT_RTPRIO is"));
+	assert_int_equal(strncmp(buf, "Operation not permitted", 23), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -146,6 +177,7 @@ int main(void)
 		cmocka_unit_test(sched_start_thread_sets_fifo_on_that_thread_only),
 		cmocka_unit_test(sched_explain_names_rlimit_rtprio),
 		cmocka_unit_test(sched_explain_other_errors_by_name),
+		cmocka_unit_test(sched_explain_skips_rlimit_for_a_priority_already_held),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
