@@ -12,6 +12,7 @@
 
 #include "can/candump_log.h"
 #include "can/socket.h"
+#include "daemon/sched.h"
 
 #define POLL_MAX_MS 100 /* longest wait, so a stop request is seen promptly */
 #define MALFORMED_LOGGED 20 /* malformed log lines reported one by one; the rest counted */
@@ -328,6 +329,8 @@ static void *thread_main(void *arg)
 {
 	struct hl_can_input *in = arg;
 
+	pthread_setname_np(pthread_self(), "hl-can");
+	hl_sched_start_thread("CAN", in->cfg.rt_priority, in->cfg.log);
 	update_status(in);
 	if (in->log)
 		run_replay(in);

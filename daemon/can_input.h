@@ -39,6 +39,7 @@ struct hl_can_input_config {
 	bool replay_loop; /* again and again ... */
 	uint64_t replay_passes; /* ... until this many passes, 0 = endlessly */
 	FILE *log; /* where the thread logs rare events (malformed log lines), e.g. stderr */
+	int rt_priority; /* SCHED_FIFO priority the thread sets itself to; 0: none (sched.h) */
 };
 
 struct hl_can_input;

@@ -129,6 +129,10 @@ static const struct key keys[] = {
 	  "illuminance levels (lx) of the road ranges, two, comma separated", NULL },
 	{ "road", "width_at", PAIR, F(road_width_at_m), 1, 300,
 	  "distances (m) at which the width of the first level's area is taken, two", NULL },
+	{ "sched", "realtime_priority", INT, F(rt_priority), 0, 99,
+	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers); "
+	  "0 = normal scheduling",
+	  NULL },
 };
 
 #define N_KEYS (sizeof(keys) / sizeof(keys[0]))

@@ -392,6 +392,33 @@ static int setup_verdicts(struct live *lv)
 	return 0;
 }
 
+/*
+ * The test-only fault switch HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=N (docs/daemon.md): the
+ * render thread hangs after N frames, so that a test sees the systemd watchdog at work.
+ */
+static int debug_stall(struct live *lv)
+{
+	const char *v = getenv("HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES");
+	char *end;
+	unsigned long long n;
+
+	if (!v)
+		return 0;
+	errno = 0;
+	n = strtoull(v, &end, 10);
+	if (!*v || *end || errno || n == 0 || v[0] == '-') {
+		log_msg("HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES '%s': expected a frame count > 0",
+			v);
+		lv->config_error = true;
+		return -EINVAL;
+	}
+	hl_pipeline_debug_stall(lv->pipe, n);
+	log_msg("HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=%llu: test-only fault: the render thread "
+		"hangs after %llu frames",
+		n, n);
+	return 0;
+}
+
 /* The render thread and its frame pool, before the CAN thread starts. */
 static int setup_renderer(struct live *lv, int n_src)
 {
@@ -448,6 +475,9 @@ static int setup_renderer(struct live *lv, int n_src)
 	}
 	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
 		lv->watchdog_us = 0;
+	rc = debug_stall(lv);
+	if (rc < 0)
+		return rc;
 	rc = hl_pipeline_start(lv->pipe, err, sizeof(err));
 	if (rc < 0) {
 		log_msg("%s", err);
@@ -563,6 +593,7 @@ static int setup(struct live *lv)
 			.replay_loop = lv->cfg.replay_loop,
 			.replay_passes = (uint64_t)lv->cfg.replay_passes,
 			.log = stderr,
+			.rt_priority = lv->cfg.rt_priority,
 		};
 
 		rc = hl_can_input_new(&icfg, lv->a, lv->ring, &lv->in);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "daemon/clock.h"
+#include "daemon/sched.h"
 #include "render/egl.h"
 #include "render/pixel.h"
 #include "render/renderer.h"
@@ -56,6 +57,8 @@ struct hl_pipeline {
 	struct hl_view_lux_opts lux_opts;
 	char describe[256];
 	uint64_t last_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's cycle in the last frame rendered */
+
+	uint64_t stall_after_frames; /* test-only fault: hang after this many frames; 0: never */
 
 	pthread_t thread;
 	bool started;
@@ -494,14 +497,30 @@ static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
 	}
 }
 
+/*
+ * The test-only fault (hl_pipeline_debug_stall): the render loop stops turning, so the alive
+ * hook (the watchdog) stops too, until the pipeline is stopped.
+ */
+static void stall(struct hl_pipeline *p)
+{
+	while (!atomic_load(&p->stop))
+		hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + IDLE_WAKE_MS * 1000000ll);
+}
+
 static void *thread_main(void *arg)
 {
 	struct hl_pipeline *p = arg;
 	const int64_t period_ns = p->cfg.rate_hz > 0 ? (int64_t)(1e9 / p->cfg.rate_hz) : 0;
 	const int64_t coalesce_ns = (int64_t)(p->cfg.coalesce_ms * 1e6);
 	int64_t next_ns = hl_clock_monotonic_ns();
+	uint64_t rendered = 0;
 	bool have = false;
-	int rc = setup(p);
+	int rc;
+
+	/* before setup: the helpers the renderer creates inherit the policy */
+	pthread_setname_np(pthread_self(), "hl-render");
+	hl_sched_start_thread("render", p->cfg.rt_priority, stderr);
+	rc = setup(p);
 
 	pthread_mutex_lock(&p->lock);
 	p->start_rc = rc;
@@ -537,10 +556,19 @@ static void *thread_main(void *arg)
 			if (coalesce_ns > 0)
 				coalesce(p, coalesce_ns);
 			render(p);
+		} else {
+			continue;
 		}
+		if (++rendered == p->stall_after_frames)
+			stall(p);
 	}
 	teardown(p);
 	return NULL;
+}
+
+void hl_pipeline_debug_stall(struct hl_pipeline *p, uint64_t after_frames)
+{
+	p->stall_after_frames = after_frames;
 }
 
 int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size)

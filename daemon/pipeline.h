@@ -75,7 +75,16 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 void hl_pipeline_free(struct hl_pipeline *p);
 
 /*
- * Starts the render thread and waits until it has an EGL context and a renderer (or failed:
+ * Test-only fault, before start: after after_frames frames the render thread hangs (stops
+ * rendering and calling the alive hook) until stopped, as a stuck renderer would; the systemd
+ * watchdog then kills the daemon (HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES, docs/daemon.md).
+ * 0: never (the default).
+ */
+void hl_pipeline_debug_stall(struct hl_pipeline *p, uint64_t after_frames);
+
+/*
+ * Starts the render thread (named hl-render, at SCHED_FIFO cfg->rt_priority when that is > 0,
+ * daemon/sched.h) and waits until it has an EGL context and a renderer (or failed:
  * then err says why). 0, -errno.
  */
 int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size);

@@ -7,6 +7,7 @@
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 /*
@@ -112,11 +113,16 @@ int hl_workers_new(int threads, struct hl_workers **ret)
 	if (sched_getaffinity(0, sizeof(w->allowed), &w->allowed) < 0)
 		CPU_ZERO(&w->allowed);
 	for (int t = 0; t < threads - 1; t++) {
+		char name[16];
+
 		if (pthread_create(&w->helpers[t], NULL, helper_main, w) != 0) {
 			hl_workers_free(w);
 			return -EAGAIN;
 		}
 		w->n_helpers++;
+		/* for ps -L and /proc/PID/task/TID/comm: the render thread's helpers */
+		snprintf(name, sizeof(name), "hl-render-%d", t + 1);
+		pthread_setname_np(w->helpers[t], name);
 	}
 	*ret = w;
 	return 0;

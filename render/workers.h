@@ -10,6 +10,9 @@
  * the cores: the pass is bound by memory (performance.md), and two cores keep twice the misses in
  * flight.
  *
+ * The helpers are created with the caller's scheduling policy and priority (the render thread's
+ * SCHED_FIFO in hdlampd, daemon/sched.h) and named hl-render-1, hl-render-2, ...
+ *
  * Thread-safety: hl_workers_run() from one thread at a time (the render thread); fn runs on the
  * caller and the helpers at once and must only write what index i owns.
  */

@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Real-time scheduling for the two threads on the 20 ms path (docs/design.md §2): the CAN
+ * thread and the render thread put themselves at SCHED_FIFO (sched.realtime_priority) when they
+ * start; the render thread does it before it creates its helpers, so they inherit it. Every
+ * other thread (main, stream, HTTP) is created by the main thread and stays at SCHED_OTHER.
+ *
+ * Unprivileged, this needs RLIMIT_RTPRIO >= the priority (the unit's LimitRTPRIO=, ulimit -r,
+ * prlimit --rtprio) and no sandbox that forbids it (RestrictRealtime=, a SystemCallFilter=
+ * without sched_setscheduler). A refusal is logged with its likely reason and the thread runs
+ * on at SCHED_OTHER: the daemon works, only its latency under load is worse.
+ *
+ * Thread-safety: each function acts on, or describes, the calling thread only.
+ */
+#ifndef HL_DAEMON_SCHED_H
+#define HL_DAEMON_SCHED_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define HL_SCHED_MAX_PRIORITY 99 /* SCHED_FIFO's range on Linux: 1..99 */
+
+/* Puts the calling thread at SCHED_FIFO priority (1..99). 0, -EINVAL, -errno (-EPERM). */
+int hl_sched_realtime(int priority);
+
+/*
+ * Why hl_sched_realtime(priority) returned rc, as a phrase for a log line: the calling
+ * process's RLIMIT_RTPRIO when it is below the priority (and the thread has no real-time
+ * priority that high already, which the kernel would let it keep), else a seccomp filter if
+ * one is on.
+ */
+void hl_sched_explain(int rc, int priority, char *buf, size_t size);
+
+/*
+ * The threads' start: with priority > 0, sets SCHED_FIFO and logs one line to log, naming the
+ * thread ("render", "CAN"): the policy it now has, or the one it keeps and why. Nothing with
+ * priority 0. Returns hl_sched_realtime's result (0 with priority 0).
+ */
+int hl_sched_start_thread(const char *thread, int priority, FILE *log);
+
+#endif
