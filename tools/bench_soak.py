@@ -59,9 +59,11 @@ def soak(a, minutes, ctx):
     run([hdlamp, "scenario", "--dbc", os.path.join(src, "dbc", "hd84.dbc"), "--out", logfile])
     seconds = minutes * 60.0
     warmup_s = min(120.0, seconds / 5)
-    # --rt: SCHED_FIFO for the daemon (chrt), as on a rig where other jobs must not take its CPU
-    cmd = (["chrt", "-f", str(ctx["RT_PRIO"])] if a.rt else []) + \
-        daemon_cmd(a.build, lamps, logfile) + ["--set", "http.listen=127.0.0.1:0"]
+    # --rt: the CAN and render threads at SCHED_FIFO as the installed service runs them
+    # (sched.realtime_priority), and the client's reading thread too, so that other jobs on
+    # the machine cannot take their CPU
+    cmd = daemon_cmd(a.build, lamps, logfile) + ["--set", "http.listen=127.0.0.1:0"] + \
+        (["--set", f"sched.realtime_priority={ctx['RT_PRIO']}"] if a.rt else [])
     log("soak: $ " + " ".join(shlex.quote(c) for c in cmd))
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     stream_port = http_port = None
@@ -80,7 +82,7 @@ def soak(a, minutes, ctx):
             if m:
                 http_port = int(m.group(1))
         threading.Thread(target=lambda: errlog.extend(p.stderr), daemon=True).start()
-        c = Client(stream_port)
+        c = Client(stream_port, a.rt)
         c.start()
         t0 = time.monotonic()
         while True:
