@@ -111,6 +111,8 @@ def main():
                     help="run wrk at nice N (default 0: it competes with the renderer)")
     ap.add_argument("--seconds", type=int, default=30)
     ap.add_argument("--size", default="160x90", help="render.size (default 160x90)")
+    ap.add_argument("--rt", type=int, default=0, metavar="PRIO",
+                    help="sched.realtime_priority (the installed service: 10; default 0)")
     a = ap.parse_args()
     if (bool(a.wrk) + bool(a.slowloris) + a.idle) != 1 or a.seconds < 1 or a.seconds > 300:
         ap.print_usage(sys.stderr)
@@ -133,7 +135,8 @@ def main():
                           "--set", f"lamps.left={tmp}/hd84_left.lid.exr",
                           "--set", f"lamps.right={tmp}/hd84_right.lid.exr",
                           "--set", f"render.size={a.size}", "--set", "stream.tcp=127.0.0.1:0",
-                          "--set", "http.listen=127.0.0.1:0"],
+                          "--set", "http.listen=127.0.0.1:0",
+                          "--set", f"sched.realtime_priority={a.rt}"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     sport = hport = None
     while hport is None:
