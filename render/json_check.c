@@ -398,9 +398,8 @@ int hl_json_check_object(const struct hl_json_ctx *c, const char *path, const st
 	if (!json_is_object(j))
 		return hl_json_fail(c, path, "expected an object, found %s", hl_json_type_name(j));
 	list[0] = '\0';
-	for (const char *const *a = allowed; *a; a++)
-		n += snprintf(list + n, n < sizeof(list) ? sizeof(list) - n : 0, "%s%s",
-			      a == allowed ? "" : ", ", *a);
+	for (const char *const *a = allowed; *a && n < sizeof(list); a++)
+		n += snprintf(list + n, sizeof(list) - n, "%s%s", a == allowed ? "" : ", ", *a);
 	json_object_foreach((json_t *)j, key, val)
 	{
 		const char *const *a;
@@ -482,9 +481,8 @@ int hl_json_get_enum(const struct hl_json_ctx *c, const char *path, const struct
 	size_t n = 0;
 
 	list[0] = '\0';
-	for (const char *const *a = names; *a; a++)
-		n += snprintf(list + n, n < sizeof(list) ? sizeof(list) - n : 0, "%s\"%s\"",
-			      a == names ? "" : ", ", *a);
+	for (const char *const *a = names; *a && n < sizeof(list); a++)
+		n += snprintf(list + n, sizeof(list) - n, "%s\"%s\"", a == names ? "" : ", ", *a);
 	hl_json_join(sub, sizeof(sub), path, key);
 	if (!j) {
 		if (required)

@@ -77,12 +77,17 @@ static int parse_segments(const struct hl_json_ctx *c, const struct json_t *j, s
 			return -EBADMSG;
 		}
 		seg->turn = turn ? -1 : 1;
-		if (!isnan(start) && fabs(start - end_m) > CONNECT_TOL_M)
+		if (!isnan(start) && fabs(start - end_m) > CONNECT_TOL_M) {
+			char prev[48] = "the road's start";
+
+			if (i > 0)
+				snprintf(prev, sizeof(prev), "where segment %zu ends", i - 1);
 			return hl_json_fail(
 				c, hl_json_join(sub, sizeof(sub), p, "start_s_m"),
 				"the road does not connect: this segment starts at s = %g m, "
-				"expected %g m (where segment %zu ends)",
-				start, end_m, i - 1 + (i == 0));
+				"expected %g m (%s)",
+				start, end_m, prev);
+		}
 		end_m += seg->length_m;
 		road->n_segments++;
 	}
