@@ -464,7 +464,8 @@ int hl_json_get_int(const struct hl_json_ctx *c, const char *path, const struct 
 	}
 	if (!json_is_integer(j))
 		return hl_json_fail(c, sub, "expected an integer in [%d, %d], found %s", lo, hi,
-				    json_is_real(j) ? "a fraction" : hl_json_type_name(j));
+				    json_is_real(j) ? "a number with a decimal point" :
+						      hl_json_type_name(j));
 	if (json_integer_value(j) < lo || json_integer_value(j) > hi)
 		return hl_json_fail(c, sub, "%lld is out of range: expected an integer in [%d, %d]",
 				    (long long)json_integer_value(j), lo, hi);

@@ -562,8 +562,9 @@ static int parse_root(const struct hl_json_ctx *c, const struct json_t *root,
 int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **ret,
 		      struct hl_json_error *err)
 {
+	struct hl_json_ctx c = { .name = name, .err = err };
 	struct hl_json_loc *loc = NULL;
-	struct hl_scenario *sc;
+	struct hl_scenario *sc = NULL;
 	json_error_t jerr;
 	json_t *root;
 	int rc;
@@ -574,36 +575,35 @@ int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **r
 	}
 	root = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
 	if (!root) {
-		if (err) {
-			err->line = jerr.line;
-			err->column = jerr.column;
+		if (err) { /* jansson's place, at least line 1, column 1 */
+			err->line = jerr.line > 0 ? jerr.line : 1;
+			err->column = jerr.column > 0 ? jerr.column : 1;
 			snprintf(err->msg, sizeof(err->msg), "%s", jerr.text);
 		}
 		return -EBADMSG;
 	}
 	rc = hl_json_loc_new(text, &loc);
-	if (rc < 0)
-		goto err_decref;
-	sc = calloc(1, sizeof(*sc));
-	if (!sc) {
-		rc = -ENOMEM;
-		goto err_loc;
+	if (rc == 0) {
+		sc = calloc(1, sizeof(*sc));
+		rc = sc ? 0 : -ENOMEM;
 	}
-	const struct hl_json_ctx c = { .name = name, .loc = loc, .err = err };
-
-	rc = parse_root(&c, root, sc);
 	if (rc < 0) {
-		free(sc);
-		goto err_loc;
+		if (err)
+			snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
+		goto err_free;
 	}
+	c.loc = loc;
+	rc = parse_root(&c, root, sc);
+	if (rc < 0)
+		goto err_free;
 	hl_json_loc_free(loc);
 	json_decref(root);
 	*ret = sc;
 	return 0;
 
-err_loc:
+err_free:
+	free(sc);
 	hl_json_loc_free(loc);
-err_decref:
 	json_decref(root);
 	return rc;
 }

@@ -161,7 +161,8 @@ static void scenario_wrong_type(void **state)
 	expect_error(edit(t, sizeof(t), "\"duration_s\": 10", "\"duration_s\": \"10\""), 4, 3,
 		     "duration_s", "expected a number in (0, 3600] s, found a string");
 	expect_error(edit(t, sizeof(t), "\"count\": 2", "\"count\": 2.5"), 10, 15,
-		     "road.lanes.count", "expected an integer in [1, 8], found a fraction");
+		     "road.lanes.count",
+		     "expected an integer in [1, 8], found a number with a decimal point");
 	expect_error(edit(t, sizeof(t), "\"x_m\": 60, \"y_m\": 5", "\"x_m\": \"60\", \"y_m\": 5"),
 		     20, 19, "actors[1].path.waypoints[1].x_m", "found a string");
 	expect_error(edit(t, sizeof(t), "\"turn\": \"left\"", "\"turn\": \"up\""), 8, 57,
