@@ -5,7 +5,6 @@
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,7 +26,7 @@ static const struct hl_json_range r_s = { -MAX_S_M, MAX_S_M, false, "m" };
 static const struct hl_json_range r_time = { 0.0, MAX_DURATION_S, false, "s" };
 static const struct hl_json_range r_speed = { 0.0, MAX_SPEED_MPS, false, "m/s" };
 static const struct hl_json_range r_heading = { -360.0, 360.0, false, "degrees" };
-static const struct hl_json_range r_vehicle[3] = { { -20.0, 20.0, false, "m" },
+static const struct hl_json_range r_vehicle[3] = { { -30.0, 20.0, false, "m" },
 						   { -5.0, 5.0, false, "m" },
 						   { 0.0, 5.0, false, "m" } };
 
