@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * hdlamp scenario: a drive as a candump -L log with correct E2E, for replay tests and demos.
+ * hdlamp scenario: a drive as a candump -L log with correct E2E, for replay tests and demos
+ * (the verbs validate and builtin, for scenario files, are in cmd_scenario_file.c).
  * HD84 lamps: low beam, high beam, a glare-free window sweeping across, bend left and right;
  * pixel lamps (hdlamp model --sources N, tools/pixel_drive.h): a moving glare-free window, a
  * sweeping bar and a ramp, a new pattern every cycle. Then the same injected faults (one CRC
@@ -59,6 +60,11 @@ static void usage(FILE *f)
 		"usage: hdlamp scenario --dbc FILE --out LOG [--expect FILE] [--iface NAME]\n"
 		"                       [--phase-cycles N] [--start SECONDS] [--drive hd84|pixel]\n"
 		"                       [--hold PRESET [--mode NAME]]\n"
+		"       hdlamp scenario validate FILE...\n"
+		"       hdlamp scenario builtin --list | NAME --out FILE\n"
+		"\n"
+		"validate checks scenario files (road, ego vehicle, road users over time:\n"
+		"docs/scenarios.md); builtin lists or writes the shipped ones. Without a verb:\n"
 		"\n"
 		"Writes a drive scenario for the lamps 'left' and 'right' of the DBC as a candump -L\n"
 		"log. --drive hd84 (the default for 95 sources per lamp, the HD84 lamps): N cycles\n"
@@ -337,6 +343,10 @@ int hl_cmd_scenario(int argc, char **argv)
 	int phase = 25, c, n_src, rc = HL_EXIT_FAIL;
 	char *end;
 
+	if (argc > 1 && !strcmp(argv[1], "validate"))
+		return hl_cmd_scenario_validate(argc - 1, argv + 1);
+	if (argc > 1 && !strcmp(argv[1], "builtin"))
+		return hl_cmd_scenario_builtin(argc - 1, argv + 1);
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:D:H:M:h", opts, NULL)) != -1) {
 		switch (c) {

@@ -15,7 +15,8 @@ static const struct command commands[] = {
 	{ "model", hl_cmd_model, "generate the HD84 lamp pair and its presets, or a pixel lamp" },
 	{ "lid", hl_cmd_lid, "inspect, combine, plot, import and export LID files" },
 	{ "dbc", hl_cmd_dbc, "show CAN databases, decode candump logs, encode frames" },
-	{ "scenario", hl_cmd_scenario, "write the drive scenario (with faults) as a candump log" },
+	{ "scenario", hl_cmd_scenario,
+	  "write the drive as a candump log; check and write scenario files" },
 	{ "render", hl_cmd_render, "render a still of a scene lit by the lamps (PNG or EXR)" },
 };
 
