@@ -275,6 +275,9 @@ static void still_oncoming_hd84_low_and_high(void **state)
 	/* The high beam puts more light at every oncoming eye than the low beam. */
 	for (int i = 0; i < 3; i++)
 		assert_true(ehi[i] > elo[i]);
+	/* At 50 m (625 cd on half the pair): the low beam under, the high beam over. */
+	assert_true(lo[0].limit.max_cd == 625.0 && lo[0].pair_half_cd < 625.0 && lo[0].pass);
+	assert_true(hi[0].pair_half_cd > 625.0 && !hi[0].pass);
 }
 
 /* The distance rule and the classes on the shipped set (its values read from the set). */
