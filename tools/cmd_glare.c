@@ -8,10 +8,10 @@
 #include <string.h>
 
 #include "lamp/combine.h"
-#include "lamp/model.h"
 #include "lamp/preset.h"
 #include "render/glare.h"
 #include "tools/commands.h"
+#include "tools/preset_arg.h"
 
 #define DEFAULT_SET "unece-r149-01-adb-glare"
 #define MAX_FRAMES 1000000
@@ -89,49 +89,6 @@ static int load_set(const char *arg, const char *dir, struct hl_regulation **ret
 	return rc;
 }
 
-/* The preset for two source lamps: a file, or a built-in HD84 preset. 0 or -errno (reported). */
-static int load_preset(const char *name, struct hl_lid *const lids[2], struct hl_preset **ret)
-{
-	struct hl_preset_error err = { 0 };
-	int rc;
-
-	if (!ends_with(name, ".json") && !strchr(name, '/')) {
-		if (hl_lid_n_sources(lids[0]) != HL_HD84_SOURCES ||
-		    hl_lid_n_sources(lids[1]) != HL_HD84_SOURCES) {
-			fprintf(stderr,
-				"hdlamp glare: --preset '%s': built-in presets are for HD84 lamps "
-				"(%d sources); give a .json file\n",
-				name, HL_HD84_SOURCES);
-			return -EINVAL;
-		}
-		rc = hl_preset_new(HL_HD84_SOURCES, ret);
-		if (rc == 0)
-			rc = hl_model_hd84_preset(name, lids, *ret);
-		if (rc < 0)
-			fprintf(stderr, "hdlamp glare: --preset '%s': no such preset\n", name);
-		return rc;
-	}
-	rc = hl_preset_read(name, ret, &err);
-	if (rc < 0) {
-		if (err.line)
-			fprintf(stderr, "hdlamp glare: '%s':%d:%d: %s\n", name, err.line,
-				err.column, err.msg);
-		else
-			fprintf(stderr, "hdlamp glare: '%s': %s\n", name,
-				err.msg[0] ? err.msg : strerror(-rc));
-		return rc;
-	}
-	for (int k = 0; k < 2; k++)
-		if (hl_lid_n_sources(lids[k]) != (*ret)->n_sources) {
-			fprintf(stderr,
-				"hdlamp glare: '%s': %d sources per lamp, the %s lamp has %d\n",
-				name, (*ret)->n_sources, hl_side_name(k),
-				hl_lid_n_sources(lids[k]));
-			return -EINVAL;
-		}
-	return 0;
-}
-
 /* Each lamp's distribution under the preset (combined files as they are). 0 or -errno. */
 static int distributions(const char *const paths[2], const char *preset_name,
 			 struct hl_lid *lids[2], float *dense[2])
@@ -150,7 +107,7 @@ static int distributions(const char *const paths[2], const char *preset_name,
 		}
 	}
 	if (!hl_lid_is_combined(lids[0]) || !hl_lid_is_combined(lids[1])) {
-		rc = load_preset(preset_name, lids, &p);
+		rc = hl_tool_preset_load("glare", preset_name, lids, 2, &p);
 		if (rc < 0)
 			return rc;
 		cur = malloc(sizeof(float) * p->n_sources);

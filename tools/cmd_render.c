@@ -20,7 +20,7 @@
 #include "render/scene_mesh.h"
 #include "render/view.h"
 #include "tools/commands.h"
-#include "lamp/model.h"
+#include "tools/preset_arg.h"
 #include "lamp/preset.h"
 
 #define DEFAULT_EXPOSURE_EV 0.0 /* 1 cd/m^2 maps to half of full scale */
@@ -416,7 +416,6 @@ static int parse(int argc, char **argv, struct options *o)
 static int load_lamps(const struct options *o, struct hl_lid *lids[2], int *n_lamps,
 		      struct hl_preset **ret_preset)
 {
-	struct hl_preset_error perr = { 0 };
 	char path[4096];
 	int rc;
 
@@ -438,49 +437,11 @@ static int load_lamps(const struct options *o, struct hl_lid *lids[2], int *n_la
 	if (hl_lid_is_combined(lids[0]) && (*n_lamps == 1 || hl_lid_is_combined(lids[1])))
 		return 0;
 	/* A file, DIR/NAME.json, or a built-in HD84 preset. */
-	if (ends_with(o->preset, ".json") || strchr(o->preset, '/')) {
-		snprintf(path, sizeof(path), "%s", o->preset);
-	} else if (o->lamps_dir) {
+	if (o->lamps_dir && !ends_with(o->preset, ".json") && !strchr(o->preset, '/'))
 		snprintf(path, sizeof(path), "%s/%s.json", o->lamps_dir, o->preset);
-	} else {
-		struct hl_lid *pair[2] = { lids[0], *n_lamps > 1 ? lids[1] : lids[0] };
-
-		if (hl_lid_n_sources(lids[0]) != HL_HD84_SOURCES ||
-		    (*n_lamps > 1 && hl_lid_n_sources(lids[1]) != HL_HD84_SOURCES)) {
-			fprintf(stderr,
-				"hdlamp render: --preset '%s': built-in presets are for "
-				"HD84 lamps (%d sources); give a .json file\n",
-				o->preset, HL_HD84_SOURCES);
-			return -EINVAL;
-		}
-		rc = hl_preset_new(HL_HD84_SOURCES, ret_preset);
-		if (rc == 0)
-			rc = hl_model_hd84_preset(o->preset, pair, *ret_preset);
-		if (rc < 0)
-			fprintf(stderr, "hdlamp render: --preset '%s': no such preset\n",
-				o->preset);
-		return rc;
-	}
-	rc = hl_preset_read(path, ret_preset, &perr);
-	if (rc < 0) {
-		if (perr.line)
-			fprintf(stderr, "hdlamp render: '%s':%d:%d: %s\n", path, perr.line,
-				perr.column, perr.msg);
-		else
-			fprintf(stderr, "hdlamp render: '%s': %s\n", path,
-				perr.msg[0] ? perr.msg : strerror(-rc));
-		return rc;
-	}
-	for (int k = 0; k < *n_lamps; k++)
-		if (!hl_lid_is_combined(lids[k]) &&
-		    hl_lid_n_sources(lids[k]) != (*ret_preset)->n_sources) {
-			fprintf(stderr,
-				"hdlamp render: '%s': %d sources per lamp, the %s lamp has %d\n",
-				path, (*ret_preset)->n_sources, hl_side_name(k),
-				hl_lid_n_sources(lids[k]));
-			return -EINVAL;
-		}
-	return 0;
+	else
+		snprintf(path, sizeof(path), "%s", o->preset);
+	return hl_tool_preset_load("render", path, lids, *n_lamps, ret_preset);
 }
 
 /*
