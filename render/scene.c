@@ -33,7 +33,7 @@ int hl_scene_from_name(const char *name)
 
 const char *hl_scene_name(enum hl_scene_kind kind)
 {
-	return names[kind];
+	return (unsigned)kind < sizeof(names) / sizeof(names[0]) ? names[kind] : NULL;
 }
 
 void hl_scene_init(struct hl_scene *s, enum hl_scene_kind kind, const struct hl_lamp_pose lamps[2])

@@ -91,6 +91,7 @@ struct hl_capsule {
 
 /* "sphere", "wall", "road", "bird", "bounce" to a kind; -EINVAL otherwise. */
 int hl_scene_from_name(const char *name);
+/* The kind's name; NULL for a value that is no kind. */
 const char *hl_scene_name(enum hl_scene_kind kind);
 
 /* A scene with its defaults and the given lamp poses. */
