@@ -60,8 +60,8 @@ def soak(a, minutes, ctx):
     seconds = minutes * 60.0
     warmup_s = min(120.0, seconds / 5)
     # --rt: the CAN and render threads at SCHED_FIFO as the installed service runs them
-    # (sched.realtime_priority), and the client's reading thread too, so that other jobs on
-    # the machine cannot take their CPU
+    # (sched.realtime_priority), and the client's reading thread one step below, so that other
+    # jobs on the machine cannot take their CPU
     cmd = daemon_cmd(a.build, lamps, logfile) + ["--set", "http.listen=127.0.0.1:0"] + \
         (["--set", f"sched.realtime_priority={ctx['RT_PRIO']}"] if a.rt else [])
     log("soak: $ " + " ".join(shlex.quote(c) for c in cmd))
@@ -82,7 +82,8 @@ def soak(a, minutes, ctx):
             if m:
                 http_port = int(m.group(1))
         threading.Thread(target=lambda: errlog.extend(p.stderr), daemon=True).start()
-        c = Client(stream_port, a.rt)
+        # the reader one step below the daemon's threads: it must not take their CPU either
+        c = Client(stream_port, a.rt, ctx["RT_PRIO"] - 1)
         c.start()
         t0 = time.monotonic()
         while True:
