@@ -47,7 +47,11 @@ int hl_can_input_new(const struct hl_can_input_config *cfg, struct hl_assembler 
 	in->a = a;
 	in->ring = ring;
 	atomic_init(&in->stop, 0);
-	pthread_mutex_init(&in->status_lock, NULL);
+	rc = hl_mutex_init_pi(&in->status_lock);
+	if (rc < 0) {
+		free(in);
+		return rc;
+	}
 	rc = hl_snapshot_new(ring, &in->snap);
 	if (rc == 0 && cfg->replay)
 		rc = hl_candump_log_open(cfg->replay, cfg->replay_loop ? cfg->replay_passes : 1,

@@ -10,6 +10,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "daemon/sched.h"
+
 #define MSG_SIZE (PATH_MAX + 512) /* a directory, or a file and a reason */
 
 enum slot_state {
@@ -121,7 +123,10 @@ int hl_capture_queue_new(const struct hl_capture_queue_config *cfg, struct hl_ca
 	q->pool = cfg->pool;
 	q->scene = cfg->scene;
 	q->log = cfg->log;
-	pthread_mutex_init(&q->lock, NULL);
+	if (hl_mutex_init_pi(&q->lock) < 0) {
+		free(q);
+		return -ENOTSUP;
+	}
 	pthread_condattr_init(&ca);
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
 	pthread_cond_init(&q->queued, NULL);

@@ -17,6 +17,8 @@
 #include "render/pixel.h"
 #include "render/plot.h"
 
+#include "daemon/sched.h"
+
 struct hl_encoder {
 	struct hl_frame_pool *pool;
 	const struct hl_frame_exr_info *exr_info;
@@ -233,7 +235,11 @@ int hl_encoder_new(struct hl_frame_pool *pool, const struct hl_frame_exr_info *e
 	e->width = s->width;
 	e->height = s->height;
 	e->format = s->format;
-	pthread_mutex_init(&e->lock, NULL);
+	rc = hl_mutex_init_pi(&e->lock);
+	if (rc < 0) {
+		free(e);
+		return rc;
+	}
 	pthread_cond_init(&e->work, NULL);
 	pthread_cond_init(&e->done, NULL);
 	e->tj = tjInitCompress();

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "daemon/sched.h"
+
 struct entry {
 	struct hl_frame frame;
 	int refs; /* readers holding it, +1 while the renderer fills it */
@@ -48,7 +50,10 @@ int hl_frame_pool_new(int n_frames, const struct hl_frame_shape *shape, struct h
 	p = calloc(1, sizeof(*p));
 	if (!p)
 		return -ENOMEM;
-	pthread_mutex_init(&p->lock, NULL);
+	if (hl_mutex_init_pi(&p->lock) < 0) {
+		free(p);
+		return -ENOTSUP;
+	}
 	pthread_cond_init(&p->newer, NULL);
 	p->shape = *shape;
 	p->n = n_frames;

@@ -18,6 +18,7 @@
 #include <microhttpd.h>
 
 #include "daemon/live_html.h"
+#include "daemon/sched.h"
 
 #define BOUNDARY "hlframe"
 #define STREAM_WAIT_MS 200 /* a stream checks for shutdown this often while it waits */
@@ -684,7 +685,11 @@ int hl_http_new(const char *listen, bool allow_capture, const struct hl_http_sou
 	}
 	h->src = *src;
 	h->allow_capture = allow_capture;
-	pthread_mutex_init(&h->lock, NULL);
+	rc = hl_mutex_init_pi(&h->lock);
+	if (rc < 0) {
+		free(h);
+		return rc;
+	}
 	rc = hl_encoder_new(src->pool, src->exr_info, &h->enc);
 	if (rc < 0) {
 		hl_http_free(h);

@@ -23,6 +23,14 @@
 #include "render/workers.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
+/*
+ * Catch-up: while the render thread is at most this many snapshots behind the CAN thread, it
+ * takes them in order, so a pass that ran late (a page fault, a busy host, a preempted vCPU)
+ * costs latency but no lamp cycle; further behind, it takes the newest and counts the cycles
+ * in between as not rendered. 8 snapshots: four ECU periods of two lamps, 80 ms at 50 Hz.
+ * Never more than half the ring (hdlampd --ring-slots), which laps only beyond that.
+ */
+#define CATCH_UP_SNAPSHOTS 8u
 
 /* The render time histogram's bucket bounds, ms (le; +Inf implied). */
 /* Prometheus base units: seconds (1, 2, 5, 10, 20, 50, 100 ms) */
@@ -59,6 +67,7 @@ struct hl_pipeline {
 	uint64_t last_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's cycle in the last frame rendered */
 
 	uint64_t stall_after_frames; /* test-only fault: hang after this many frames; 0: never */
+	uint64_t catch_up; /* snapshots behind that are still taken in order (CATCH_UP_SNAPSHOTS) */
 
 	pthread_t thread;
 	bool started;
@@ -92,7 +101,15 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 	if (hooks)
 		p->hooks = *hooks;
 	p->exposure_ev = cfg->exposure_ev;
-	pthread_mutex_init(&p->lock, NULL);
+	/* the fixed-rate mode shows the newest state at each tick: no catch-up */
+	p->catch_up = cfg->rate_hz > 0 ? 0 : hl_ring_slots(ring) / 2;
+	if (p->catch_up > CATCH_UP_SNAPSHOTS)
+		p->catch_up = CATCH_UP_SNAPSHOTS;
+	rc = hl_mutex_init_pi(&p->lock);
+	if (rc < 0) {
+		free(p);
+		return rc;
+	}
 	pthread_cond_init(&p->up, NULL);
 	atomic_init(&p->stop, 0);
 	for (int l = 0; l < n_lamps; l++)
@@ -479,21 +496,42 @@ static bool other_lamp_due(const struct hl_pipeline *p)
 	return advanced && lagging;
 }
 
-/* Waits up to coalesce_ns for the other lamp's cycle (render.coalesce_ms), taking the newest. */
+/*
+ * The next snapshot into p->snap: in order while at most catch_up behind (every cycle shown),
+ * else the newest (the ones skipped counted as superseded, their cycles as not rendered). The
+ * fixed-rate mode shows the newest state at each tick: catch_up 0. False: nothing new.
+ */
+static bool take(struct hl_pipeline *p)
+{
+	const uint64_t pending = hl_ring_pending(p->ring);
+
+	if (pending == 0)
+		return false;
+	if (pending <= p->catch_up)
+		return hl_ring_pop(p->ring, p->snap);
+	return hl_ring_take_newest(p->ring, p->snap);
+}
+
+/*
+ * Waits up to coalesce_ns for the other lamp's cycle (render.coalesce_ms); a snapshot already
+ * in the ring is taken without waiting, whatever the time.
+ */
 static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
 {
 	const int64_t until = hl_clock_monotonic_ns() + coalesce_ns;
 
 	while (other_lamp_due(p) && !atomic_load(&p->stop)) {
-		const int64_t left = until - hl_clock_monotonic_ns();
-		struct pollfd pfd = { .fd = hl_ring_wake_fd(p->ring), .events = POLLIN };
-		struct timespec ts = { left / 1000000000, left % 1000000000 };
+		if (hl_ring_pending(p->ring) == 0) {
+			const int64_t left = until - hl_clock_monotonic_ns();
+			struct pollfd pfd = { .fd = hl_ring_wake_fd(p->ring), .events = POLLIN };
+			struct timespec ts = { left / 1000000000, left % 1000000000 };
 
-		if (left <= 0)
-			break;
-		if (ppoll(&pfd, 1, &ts, NULL) > 0)
-			hl_ring_wait(p->ring, 0); /* reset */
-		hl_ring_take_newest(p->ring, p->snap);
+			if (left <= 0)
+				break;
+			if (ppoll(&pfd, 1, &ts, NULL) > 0)
+				hl_ring_wait(p->ring, 0); /* reset */
+		}
+		take(p);
 	}
 }
 
@@ -541,9 +579,9 @@ static void *thread_main(void *arg)
 
 			timeout_ms = next_ns > now ? (int)((next_ns - now) / 1000000) : 0;
 		}
-		hl_ring_wait(p->ring, timeout_ms);
-		/* the newest complete state: what came in meanwhile is superseded (counted) */
-		fresh = hl_ring_take_newest(p->ring, p->snap);
+		/* snapshots left from a catch-up are taken at once (and the wake-up reset) */
+		hl_ring_wait(p->ring, hl_ring_pending(p->ring) > 0 ? 0 : timeout_ms);
+		fresh = take(p);
 		have |= fresh;
 		if (!have)
 			continue;

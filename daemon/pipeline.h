@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The render thread (docs/architecture.md) owns the EGL context and the renderer, takes the newest
- * complete snapshot from the ring whenever the CAN thread pushes one (or at a fixed rate),
+ * The render thread (docs/architecture.md) owns the EGL context and the renderer, takes the
+ * next complete snapshot from the ring whenever the CAN thread pushes one (in order while it is
+ * at most a few snapshots behind, so a late pass loses no cycle; the newest when further behind
+ * or at a fixed rate),
  * applies each stale lamp's fail-safe (hold, dark or a preset), renders the scene, converts it
  * to the configured view in a frame from the pool and publishes it with its latency stamps.
  *

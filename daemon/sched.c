@@ -8,6 +8,20 @@
 #include <string.h>
 #include <sys/resource.h>
 
+int hl_mutex_init_pi(pthread_mutex_t *m)
+{
+	pthread_mutexattr_t a;
+	int rc = pthread_mutexattr_init(&a);
+
+	if (rc == 0) {
+		rc = pthread_mutexattr_setprotocol(&a, PTHREAD_PRIO_INHERIT);
+		if (rc == 0)
+			rc = pthread_mutex_init(m, &a);
+		pthread_mutexattr_destroy(&a);
+	}
+	return -rc;
+}
+
 int hl_sched_realtime(int priority)
 {
 	const struct sched_param sp = { .sched_priority = priority };

@@ -15,6 +15,7 @@
 #ifndef HL_DAEMON_SCHED_H
 #define HL_DAEMON_SCHED_H
 
+#include <pthread.h>
 #include <stddef.h>
 #include <stdio.h>
 
@@ -37,5 +38,15 @@ void hl_sched_explain(int rc, int priority, char *buf, size_t size);
  * priority 0. Returns hl_sched_realtime's result (0 with priority 0).
  */
 int hl_sched_start_thread(const char *thread, int priority, FILE *log);
+
+/*
+ * A mutex with priority inheritance (PTHREAD_PRIO_INHERIT): while a SCHED_FIFO thread waits on
+ * it, its holder runs at the waiter's priority until it unlocks. Every lock the CAN and render
+ * threads share with the SCHED_OTHER threads (stream, HTTP, encoder, captures) is one, so a
+ * reader that is preempted while it holds a lock cannot keep the 20 ms path waiting behind the
+ * other jobs of a busy machine (priority inversion). 0 or -errno (-ENOTSUP: the kernel has no
+ * PI futexes; the mutex is then not initialised).
+ */
+int hl_mutex_init_pi(pthread_mutex_t *m);
 
 #endif

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "daemon/prom.h"
+#include "daemon/sched.h"
 
 struct hl_status {
 	struct hl_status_sources src;
@@ -29,7 +30,10 @@ int hl_status_new(const struct hl_status_sources *src, enum hl_failsafe failsafe
 		return -ENOMEM;
 	st->src = *src;
 	st->failsafe = failsafe;
-	pthread_mutex_init(&st->lock, NULL);
+	if (hl_mutex_init_pi(&st->lock) < 0) {
+		free(st);
+		return -ENOTSUP;
+	}
 	*ret = st;
 	return 0;
 }

@@ -19,6 +19,7 @@
 
 #include "daemon/clock.h"
 #include "daemon/http.h"
+#include "daemon/sched.h"
 
 #define MAX_CLIENTS HL_STREAM_MAX_CLIENTS
 #define POLL_MS 100 /* the longest poll: stalls are judged at least this often */
@@ -194,7 +195,11 @@ int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clie
 		s->clients[i].fd = -1;
 	s->frame_bytes = sizeof(struct hl_frame_header) +
 			 (size_t)sh->width * sh->height * (sh->format == HL_PIXEL_RGBA16F ? 8 : 3);
-	pthread_mutex_init(&s->lock, NULL);
+	if (hl_mutex_init_pi(&s->lock) < 0) {
+		snprintf(err, err_size, "no priority-inheritance mutex (PI futexes)");
+		free(s);
+		return -ENOTSUP;
+	}
 	atomic_init(&s->stop, 0);
 	s->wake_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
 	if (s->wake_fd < 0) {

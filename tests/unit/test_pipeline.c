@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * daemon/pipeline.c: ring -> render thread -> frame pool with the CPU renderer, a tiny frame
- * and the HD84 model. Each case pushes hand-made snapshots, one at a time, waits for the frame
- * each one makes and checks its header, raw values and flags, then the counts after stop.
+ * and the HD84 model. Each case pushes hand-made snapshots, one at a time (or several before the
+ * render thread starts, as a late pass finds them), waits for the frame each one makes and
+ * checks its header, raw values and flags, then the counts after stop.
  * (The waits have a generous bound only so that a hang fails; nothing here measures time.)
  */
 #include <errno.h>
@@ -63,7 +64,8 @@ static void scale_hd84(struct fixture *f)
 			f->scale[l][k] = (struct hl_source_scale){ 1.0 / 63.0, 0.0 };
 }
 
-static void start(struct fixture *f, enum hl_failsafe mode, const uint8_t *const dims[LAMPS])
+/* Makes the ring, pool and pipeline (ring of 8 slots: catch-up up to 4 snapshots behind). */
+static void make(struct fixture *f, enum hl_failsafe mode, const uint8_t *const dims[LAMPS])
 {
 	const struct hl_lid_grid *g = hl_lid_grid(f->lids[0]);
 	const struct hl_frame_shape shape = {
@@ -76,7 +78,6 @@ static void start(struct fixture *f, enum hl_failsafe mode, const uint8_t *const
 		.dist_height = g->height,
 	};
 	const struct hl_source_scale *scales[LAMPS] = { f->scale[0], f->scale[1] };
-	char err[512];
 
 	hl_config_defaults(&f->cfg);
 	f->cfg.width = W;
@@ -94,8 +95,20 @@ static void start(struct fixture *f, enum hl_failsafe mode, const uint8_t *const
 	assert_int_equal(hl_pipeline_new(&f->cfg, f->lids, LAMPS, scales, dims, f->ring, f->pool,
 					 NULL, NULL, &f->p),
 			 0);
+}
+
+static void run(struct fixture *f)
+{
+	char err[512];
+
 	if (hl_pipeline_start(f->p, err, sizeof(err)) < 0)
 		fail_msg("%s", err);
+}
+
+static void start(struct fixture *f, enum hl_failsafe mode, const uint8_t *const dims[LAMPS])
+{
+	make(f, mode, dims);
+	run(f);
 }
 
 static void stop(struct fixture *f, struct hl_pipeline_counts *ret)
@@ -238,6 +251,81 @@ static void pipeline_counts_cycles_no_frame_showed(void **state)
 	assert_int_equal(pc.cycles_not_rendered[1], 3);
 }
 
+/*
+ * Waits for frame number `frame` (the pool hands out only the newest, so the ones before may
+ * pass unseen) and checks both lamps show cycle seq in it.
+ */
+static void wait_frame(struct fixture *f, uint64_t frame, uint64_t seq)
+{
+	struct hl_frame *fr = NULL;
+
+	while (!fr || fr->hdr.seq < frame) {
+		if (fr)
+			hl_frame_pool_release(f->pool, fr);
+		fr = hl_frame_pool_get(f->pool, fr ? fr->hdr.seq : 0, WAIT_MS);
+		assert_non_null(fr);
+	}
+	assert_int_equal(fr->hdr.seq, frame);
+	assert_int_equal(fr->hdr.cycle_seq[0], seq);
+	assert_int_equal(fr->hdr.cycle_seq[1], seq);
+	assert_raw(fr, 0, 5, seq);
+	hl_frame_pool_release(f->pool, fr);
+}
+
+/*
+ * A render pass that ran late: the cycles that came meanwhile (at most half the ring, here 4
+ * snapshots) are each shown in a frame, in order: four frames, the last with cycle 4, and no
+ * cycle not rendered (a frame out of order or a skipped one would count one).
+ */
+static void pipeline_catches_up_in_order_after_a_late_pass(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_pipeline_counts pc;
+	struct hl_ring_counts rc;
+
+	scale_hd84(f);
+	make(f, HL_FAILSAFE_HOLD, NULL);
+	for (uint64_t seq = 1; seq <= 4; seq++) {
+		set_lamp(f, 0, seq, HL_LAMP_VALID, 5);
+		set_lamp(f, 1, seq, HL_LAMP_VALID, 7);
+		hl_ring_push(f->ring, f->s);
+	}
+	run(f);
+	wait_frame(f, 4, 4);
+	hl_ring_counts(f->ring, &rc);
+	stop(f, &pc);
+	assert_int_equal(pc.frames, 4);
+	assert_int_equal(pc.cycles_not_rendered[0], 0);
+	assert_int_equal(pc.cycles_not_rendered[1], 0);
+	assert_int_equal(rc.consumed, 4);
+	assert_int_equal(rc.superseded, 0);
+}
+
+/* Further behind than the catch-up: the newest is shown and the cycles between are counted. */
+static void pipeline_takes_the_newest_when_far_behind(void **state)
+{
+	struct fixture *f = *state;
+	struct hl_pipeline_counts pc;
+	struct hl_ring_counts rc;
+
+	scale_hd84(f);
+	make(f, HL_FAILSAFE_HOLD, NULL);
+	for (uint64_t seq = 1; seq <= 6; seq++) {
+		set_lamp(f, 0, seq, HL_LAMP_VALID, 5);
+		set_lamp(f, 1, seq, HL_LAMP_VALID, 7);
+		hl_ring_push(f->ring, f->s);
+	}
+	run(f);
+	wait_frame(f, 1, 6);
+	hl_ring_counts(f->ring, &rc);
+	stop(f, &pc);
+	assert_int_equal(pc.frames, 1);
+	assert_int_equal(pc.cycles_not_rendered[0], 5);
+	assert_int_equal(pc.cycles_not_rendered[1], 5);
+	assert_int_equal(rc.consumed, 1);
+	assert_int_equal(rc.superseded, 5);
+}
+
 static void pipeline_applies_each_failsafe_mode_to_a_stale_lamp(void **state)
 {
 	struct fixture *f = *state;
@@ -298,6 +386,8 @@ int main(void)
 		cmocka_unit_test(pipeline_raw_values_follow_the_dbc_scale),
 		cmocka_unit_test(pipeline_counts_cycles_no_frame_showed),
 		cmocka_unit_test(pipeline_applies_each_failsafe_mode_to_a_stale_lamp),
+		cmocka_unit_test(pipeline_catches_up_in_order_after_a_late_pass),
+		cmocka_unit_test(pipeline_takes_the_newest_when_far_behind),
 	};
 
 	return cmocka_run_group_tests(tests, group_setup, group_teardown);
