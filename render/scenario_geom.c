@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/world.h"
+
 #define DEG (M_PI / 180.0)
 
 /* Where segment seg is u metres after its start (0 <= u; past its end it curves on). */
@@ -253,11 +255,7 @@ void hl_scenario_ego_lamps(const struct hl_scenario *sc, double t_s, struct hl_l
 	struct hl_body_pose pose;
 
 	hl_scenario_ego_pose(sc, t_s, &pose);
-	for (int l = 0; l < 2; l++) {
-		ret[l] = sc->ego.lamp[l];
-		hl_body_to_world(&pose, sc->ego.lamp[l].pos_m, ret[l].pos_m);
-		ret[l].yaw_deg = remainder(sc->ego.lamp[l].yaw_deg + pose.heading_rad / DEG, 360.0);
-	}
+	hl_world_ego_lamps(sc, &pose, ret);
 }
 
 void hl_scenario_ego_camera(const struct hl_scenario *sc, double t_s, int width, int height,
@@ -294,5 +292,5 @@ void hl_scenario_actor_eye(const struct hl_scenario *sc, int i, double t_s, doub
 	struct hl_body_pose pose;
 
 	hl_scenario_actor_pose(sc, i, t_s, &pose);
-	hl_body_to_world(&pose, sc->actor[i].eye_m, ret);
+	hl_world_actor_eye(sc, i, &pose, ret);
 }

@@ -18,6 +18,7 @@
 #include "alloc_count.h"
 #include "render/scenario.h"
 #include "render/scenario_geom.h"
+#include "render/world.h"
 
 #define MM 1e-3
 #define DEG (M_PI / 180.0)
@@ -234,6 +235,7 @@ static void oncoming_car_under_piecewise_linear_speed(void **state)
 	};
 	const double R = 250.0, d = 1.75;
 	struct hl_scenario *sc = load(text);
+	struct hl_world_state w;
 
 	for (size_t i = 0; i < sizeof(t_list) / sizeof(t_list[0]); i++) {
 		const double t = t_list[i];
@@ -257,6 +259,16 @@ static void oncoming_car_under_piecewise_linear_speed(void **state)
 			near_heading("heading", t, pose.heading_rad, phi + M_PI);
 			hl_scenario_actor_eye(sc, a, t, eye);
 			near_point("eye", t, eye, x - ex * cos(phi) + ey * sin(phi),
+				   y - ex * sin(phi) - ey * cos(phi), ez);
+			/* the world state of that instant: the same pose, the same eye */
+			hl_world_at(sc, t, &w);
+			assert_int_equal(w.n_actors, 2);
+			assert_int_equal(w.lamps_on, 3);
+			near("world t", t, w.t_s, t, 0.0);
+			near_point("world position", t, w.actor[a].pos_m, x, y, 0.0);
+			near_heading("world heading", t, w.actor[a].heading_rad, phi + M_PI);
+			hl_world_actor_eye(sc, a, &w.actor[a], eye);
+			near_point("world eye", t, eye, x - ex * cos(phi) + ey * sin(phi),
 				   y - ex * sin(phi) - ey * cos(phi), ez);
 		}
 	}
