@@ -130,8 +130,8 @@ static const struct key keys[] = {
 	{ "road", "width_at", PAIR, F(road_width_at_m), 1, 300,
 	  "distances (m) at which the width of the first level's area is taken, two", NULL },
 	{ "sched", "realtime_priority", INT, F(rt_priority), 0, 99,
-	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers); "
-	  "0 = normal scheduling",
+	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers), the frame "
+	  "stream thread one below; 0 = normal scheduling",
 	  NULL },
 };
 

@@ -89,7 +89,7 @@ struct hl_config {
 	double road_levels_lx[HL_CONFIG_ROAD_LEVELS]; /* illuminance levels of the ranges */
 	double road_width_at_m[HL_CONFIG_ROAD_WIDTHS]; /* where the width is taken */
 	/* [sched] */
-	int rt_priority; /* SCHED_FIFO of the CAN and render threads; 0: SCHED_OTHER */
+	int rt_priority; /* SCHED_FIFO of the CAN and render threads (stream: one below); 0: off */
 	/* where each key of config.c's table was last set, by its index there */
 	struct hl_config_origin set_at[HL_CONFIG_MAX_KEYS];
 };

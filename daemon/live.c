@@ -444,7 +444,9 @@ static int setup_outputs(struct live *lv)
 				   lv->cfg.stream_max_clients, lv->cfg.stream_stall_timeout_ms,
 				   lv->pool, &lv->stream, err, sizeof(err));
 		if (rc == 0)
-			rc = hl_stream_start(lv->stream);
+			rc = hl_stream_start(lv->stream, lv->cfg.rt_priority > 1 ?
+								 lv->cfg.rt_priority - 1 :
+								 lv->cfg.rt_priority);
 		if (rc < 0) {
 			log_msg("%s", err);
 			return rc;

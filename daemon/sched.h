@@ -2,8 +2,10 @@
 /*
  * Real-time scheduling for the two threads on the 20 ms path (docs/design.md §2): the CAN
  * thread and the render thread put themselves at SCHED_FIFO (sched.realtime_priority) when they
- * start; the render thread does it before it creates its helpers, so they inherit it. Every
- * other thread (main, stream, HTTP) is created by the main thread and stays at SCHED_OTHER.
+ * start; the render thread does it before it creates its helpers, so they inherit it. The frame
+ * stream thread runs one step below them (it never delays them; a busy machine's other jobs
+ * cannot delay the frames to the clients). Every other thread (main, HTTP, encoder, captures)
+ * stays at SCHED_OTHER.
  *
  * Unprivileged, this needs RLIMIT_RTPRIO >= the priority (the unit's LimitRTPRIO=, ulimit -r,
  * prlimit --rtprio) and no sandbox that forbids it (RestrictRealtime=, a SystemCallFilter=

@@ -53,6 +53,7 @@ struct hl_stream {
 	struct client clients[MAX_CLIENTS];
 	pthread_t thread;
 	bool started;
+	int rt_priority; /* SCHED_FIFO of the stream thread; 0: SCHED_OTHER */
 	atomic_int stop;
 	pthread_mutex_t lock; /* counts */
 	struct hl_stream_counts c;
@@ -531,6 +532,8 @@ static void *thread_main(void *arg)
 {
 	struct hl_stream *s = arg;
 
+	pthread_setname_np(pthread_self(), "hl-stream");
+	hl_sched_start_thread("stream", s->rt_priority, stderr);
 	while (!atomic_load(&s->stop)) {
 		struct pollfd pfd[3 + MAX_CLIENTS];
 		struct client *who[3 + MAX_CLIENTS];
@@ -578,9 +581,12 @@ static void *thread_main(void *arg)
 	return NULL;
 }
 
-int hl_stream_start(struct hl_stream *s)
+int hl_stream_start(struct hl_stream *s, int rt_priority)
 {
-	int rc = pthread_create(&s->thread, NULL, thread_main, s);
+	int rc;
+
+	s->rt_priority = rt_priority;
+	rc = pthread_create(&s->thread, NULL, thread_main, s);
 
 	if (rc)
 		return -rc;

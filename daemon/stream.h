@@ -68,7 +68,12 @@ int hl_stream_new(const char *tcp, const char *unix_path, bool raw, int max_clie
 		  int stall_timeout_ms, struct hl_frame_pool *pool, struct hl_stream **ret,
 		  char *err, size_t err_size);
 void hl_stream_free(struct hl_stream *s);
-int hl_stream_start(struct hl_stream *s);
+/*
+ * Starts the stream thread (hl-stream); rt_priority > 0 puts it at SCHED_FIFO (the daemon
+ * gives it one step below the CAN and render threads: it never delays them, and the other
+ * jobs of a busy machine cannot delay the frames to the clients). 0 or -errno.
+ */
+int hl_stream_start(struct hl_stream *s, int rt_priority);
 void hl_stream_stop(struct hl_stream *s);
 void hl_stream_wake(struct hl_stream *s);
 void hl_stream_counts(struct hl_stream *s, struct hl_stream_counts *ret);

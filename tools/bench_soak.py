@@ -83,7 +83,7 @@ def soak(a, minutes, ctx):
                 http_port = int(m.group(1))
         threading.Thread(target=lambda: errlog.extend(p.stderr), daemon=True).start()
         # the reader one step below the daemon's threads: it must not take their CPU either
-        c = Client(stream_port, a.rt, ctx["RT_PRIO"] - 1)
+        c = Client(stream_port, a.rt, ctx["RT_PRIO"] - 2)
         c.start()
         t0 = time.monotonic()
         while True:

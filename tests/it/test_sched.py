@@ -1,6 +1,6 @@
 """sched.realtime_priority (daemon/sched.c): SCHED_FIFO for the CAN thread, the render thread
-and its helpers only; the main, stream and HTTP threads stay at SCHED_OTHER. A refusal is a
-warning naming the reason, and the daemon runs on."""
+and its helpers, one step below for the frame stream thread; the main and HTTP threads stay at
+SCHED_OTHER. A refusal is a warning naming the reason, and the daemon runs on."""
 import json
 import signal
 import subprocess
@@ -73,6 +73,7 @@ def test_fifo_for_can_render_and_helpers_only(hdlamp, tmp_path):
     text = "".join(lines) + err
     assert "hdlampd: sched: the CAN thread runs at SCHED_FIFO 10\n" in text
     assert "hdlampd: sched: the render thread runs at SCHED_FIFO 10\n" in text
+    assert "hdlampd: sched: the stream thread runs at SCHED_FIFO 9\n" in text
     assert "warning" not in text
     assert status["frames"]["rendered"] > 0
 
@@ -100,9 +101,10 @@ def test_refusal_names_rlimit_rtprio_and_the_daemon_runs_on(hdlamp, tmp_path):
     finally:
         status, err = stop(p)
     text = "".join(lines) + err
-    for thread in ("CAN", "render"):
+    for thread, prio in (("CAN", 10), ("render", 10), ("stream", 9)):
         assert (f"hdlampd: sched: warning: the {thread} thread stays at SCHED_OTHER: "
-                "SCHED_FIFO 10 refused: Operation not permitted: RLIMIT_RTPRIO is 0, below 10, "
+                f"SCHED_FIFO {prio} refused: Operation not permitted: RLIMIT_RTPRIO is 0, "
+                f"below {prio}, "
                 "and no CAP_SYS_NICE (raise it with LimitRTPRIO= in the unit, ulimit -r or "
                 "prlimit --rtprio)\n") in text, text
     assert status["frames"]["rendered"] > 0

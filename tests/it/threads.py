@@ -20,19 +20,29 @@ def thread_policies(pid):
     return out
 
 
-def realtime_threads(name):
-    """Whether a thread of hdlampd's is one that sched.realtime_priority puts at SCHED_FIFO:
-    the CAN thread, the render thread and the render thread's helpers."""
-    return name in ("hl-can", "hl-render") or name.startswith("hl-render-")
+def fifo_priority(name, priority):
+    """The SCHED_FIFO priority sched.realtime_priority = priority gives a thread of hdlampd's,
+    0 for SCHED_OTHER: priority for the CAN thread, the render thread and the render thread's
+    helpers, one step below (at least 1) for the frame stream thread, 0 for the others."""
+    if not priority:
+        return 0
+    if name in ("hl-can", "hl-render") or name.startswith("hl-render-"):
+        return priority
+    if name == "hl-stream":
+        return max(priority - 1, 1)
+    return 0
 
 
-def check_policies(pid, priority):
-    """The CAN, render and render helper threads at SCHED_FIFO priority (priority 0: TS),
-    every other thread at SCHED_OTHER. Returns the threads for printing."""
+def check_policies(pid, priority, stream=True):
+    """The CAN, render and render helper threads at SCHED_FIFO priority, the stream thread
+    one below (priority 0: all TS), every other thread at SCHED_OTHER. Returns the threads for
+    printing."""
     ts = thread_policies(pid)
     names = sorted(comm for comm, _, _ in ts.values())
     assert names.count("hl-can") == 1 and names.count("hl-render") == 1, names
+    assert names.count("hl-stream") == (1 if stream else 0), names
     for comm, policy, prio in ts.values():
-        want = ("FF", priority) if priority and realtime_threads(comm) else ("TS", 0)
+        p = fifo_priority(comm, priority)
+        want = ("FF", p) if p else ("TS", 0)
         assert (policy, prio) == want, (comm, policy, prio, sorted(ts.values()))
     return sorted(ts.values())

@@ -53,7 +53,7 @@ static struct fixture *start_with(const struct hl_frame_shape *shape, int n_fram
 		fail_msg("hl_stream_new: %s", err);
 	fx->port = hl_stream_tcp_port(fx->stream);
 	assert_true(fx->port > 0);
-	assert_int_equal(hl_stream_start(fx->stream), 0);
+	assert_int_equal(hl_stream_start(fx->stream, 0), 0);
 	return fx;
 }
 
