@@ -81,6 +81,79 @@ void hl_road_point(const struct hl_road *road, double s_m, double d_m, double re
 	ret[2] = 0.0;
 }
 
+/* A candidate foot: (s, d) and its squared distance from the point. */
+struct foot {
+	double s, d, dist2;
+};
+
+static void keep(struct foot *best, double s, double d, double dist2)
+{
+	if (dist2 < best->dist2)
+		*best = (struct foot){ s, d, dist2 };
+}
+
+/*
+ * The straight line from (x0, y0) heading h, u in [lo, hi] along it (s = s0 + u): the clamped
+ * foot of the perpendicular.
+ */
+static void on_line(double x0, double y0, double h, double s0, double lo, double hi, double x,
+		    double y, struct foot *best)
+{
+	const double c = cos(h), sn = sin(h), dx = x - x0, dy = y - y0;
+	const double u = dx * c + dy * sn, d = -dx * sn + dy * c;
+	const double uc = u < lo ? lo : u > hi ? hi : u;
+
+	keep(best, s0 + uc, d, (u - uc) * (u - uc) + d * d);
+}
+
+/* An arc: the angle about its centre, unwrapped about the arc's middle. */
+static void on_arc(const struct hl_road_segment *seg, double x, double y, struct foot *best)
+{
+	const double r0 = seg->radius_m, L = seg->length_m;
+	const double nx = -sin(seg->heading0_rad), ny = cos(seg->heading0_rad); /* left normal */
+	const double cx = seg->x0_m + seg->turn * r0 * nx, cy = seg->y0_m + seg->turn * r0 * ny;
+	const double phi0 = atan2(-seg->turn * ny, -seg->turn * nx);
+	const double phi_mid = phi0 + seg->turn * L / (2.0 * r0);
+	const double vx = x - cx, vy = y - cy, r = hypot(vx, vy);
+	const double u = L / 2 + seg->turn * r0 * remainder(atan2(vy, vx) - phi_mid, 2.0 * M_PI);
+	const double d = seg->turn * (r0 - r);
+
+	if (u >= 0.0 && u <= L) {
+		keep(best, seg->s0_m + u, d, d * d);
+	} else {
+		/* Beyond an end: the end point is the nearest point of this arc. */
+		const double ue = u < 0.0 ? 0.0 : L;
+		struct hl_pose2 e;
+
+		in_segment(seg, ue, &e);
+		keep(best, seg->s0_m + ue, d,
+		     (x - e.x_m) * (x - e.x_m) + (y - e.y_m) * (y - e.y_m));
+	}
+}
+
+void hl_road_project(const struct hl_road *road, double x_m, double y_m, double *ret_s_m,
+		     double *ret_d_m)
+{
+	struct foot best = { 0.0, 0.0, INFINITY };
+	struct hl_pose2 end;
+
+	/* The run-on before s = 0 and after the end. */
+	on_line(road->x0_m, road->y0_m, road->heading0_rad, 0.0, -INFINITY, 0.0, x_m, y_m, &best);
+	hl_road_centre(road, road->length_m, &end);
+	on_line(end.x_m, end.y_m, end.heading_rad, road->length_m, 0.0, INFINITY, x_m, y_m, &best);
+	for (int i = 0; i < road->n_segments; i++) {
+		const struct hl_road_segment *seg = &road->seg[i];
+
+		if (seg->kind == HL_SEG_STRAIGHT)
+			on_line(seg->x0_m, seg->y0_m, seg->heading0_rad, seg->s0_m, 0.0,
+				seg->length_m, x_m, y_m, &best);
+		else
+			on_arc(seg, x_m, y_m, &best);
+	}
+	*ret_s_m = best.s;
+	*ret_d_m = best.d;
+}
+
 double hl_road_half_width(const struct hl_road *road)
 {
 	return road->lanes * road->lane_width_m / 2;

@@ -46,6 +46,14 @@ void hl_waypoints_layout(struct hl_path *path, double heading_rad);
 void hl_road_centre(const struct hl_road *road, double s_m, struct hl_pose2 *ret);
 /* The ground point at s, d metres to the left of the centre line (z = 0). */
 void hl_road_point(const struct hl_road *road, double s_m, double d_m, double ret[3]);
+/*
+ * The inverse of hl_road_point(): the road coordinates (s, d) of the ground point (x, y) (world,
+ * metres), exactly: the foot of the perpendicular on the nearest part of the centre line (a
+ * segment, or the straight run-on before s = 0 or after the road's end). An arc's points are
+ * measured by the angle about its centre (arcs up to a full turn). Allocates nothing.
+ */
+void hl_road_project(const struct hl_road *road, double x_m, double y_m, double *ret_s_m,
+		     double *ret_d_m);
 /* Lateral offset of lane (1.. from the right edge)'s centre line from the road's centre. */
 double hl_road_lane_offset(const struct hl_road *road, int lane);
 /* Half the road's width: its edges are at d = ±this. */
