@@ -19,6 +19,7 @@
 
 struct hl_world_scene {
 	const struct hl_scenario *sc;
+	struct hl_road_proj proj; /* the road's parts, for the ground's road coordinates */
 	atomic_ulong objects_dropped;
 };
 
@@ -49,6 +50,7 @@ int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret
 	if (!ws)
 		return -ENOMEM;
 	ws->sc = sc;
+	hl_road_proj_init(&sc->road, &ws->proj);
 	atomic_init(&ws->objects_dropped, 0);
 	*ret = ws;
 	return 0;
@@ -126,31 +128,51 @@ static void corner(const struct object *ob, int i, double ret[3])
 	ret[2] = ob->o[2] + (i & 4 ? ob->hi[2] : ob->lo[2]);
 }
 
-/* The pixel rectangle the box can cover (all of the image when it reaches behind the camera). */
+/*
+ * The pixel rectangle the box can cover: all of the image when it reaches behind the camera,
+ * an empty one (row1 < row0) when it lies wholly behind it.
+ */
 static void bound(const struct view *v, struct object *ob)
 {
 	double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+	int behind = 0;
 
 	for (int i = 0; i < 8; i++) {
 		double p[3], x, y, z;
 
 		corner(ob, i, p);
 		if (!view_project(v, p, &x, &y, &z)) {
-			ob->row0 = ob->col0 = 0;
-			ob->row1 = v->h - 1;
-			ob->col1 = v->w - 1;
-			return;
+			behind++;
+			continue;
 		}
 		x0 = fmin(x0, x);
 		x1 = fmax(x1, x);
 		y0 = fmin(y0, y);
 		y1 = fmax(y1, y);
 	}
+	if (behind == 8) {
+		ob->row0 = ob->col0 = 0;
+		ob->row1 = ob->col1 = -1;
+		return;
+	}
+	if (behind) {
+		ob->row0 = ob->col0 = 0;
+		ob->row1 = v->h - 1;
+		ob->col1 = v->w - 1;
+		return;
+	}
 	/* Pixel centres inside [x0, x1] belong to columns floor(x0 - 0.5) + 1 .. floor(x1 - 0.5). */
 	ob->col0 = (int)fmax(floor(x0 - 0.5), -1.0);
 	ob->col1 = (int)fmin(ceil(x1), (double)v->w);
 	ob->row0 = (int)fmax(floor(y0 - 0.5), -1.0);
 	ob->row1 = (int)fmin(ceil(y1), (double)v->h);
+}
+
+/* Whether an object's rectangle meets rows row0 .. row1 of the image. */
+static bool in_band(const struct view *v, const struct object *ob, int row0, int row1)
+{
+	return ob->row0 <= ob->row1 && ob->row1 >= row0 && ob->row0 <= row1 && ob->col1 >= 0 &&
+	       ob->col0 < v->w;
 }
 
 static double actor_albedo(const struct hl_actor *a)
@@ -227,7 +249,7 @@ static int gather(struct hl_world_scene *ws, const struct hl_world_state *st, co
 
 		actor_object(sc, st, i, &ob);
 		bound(v, &ob);
-		if (ob.row1 < row0 || ob.row0 > row1 || ob.col1 < 0 || ob.col0 >= v->w)
+		if (!in_band(v, &ob, row0, row1))
 			continue;
 		if (n == max) {
 			dropped++;
@@ -257,8 +279,7 @@ static int gather(struct hl_world_scene *ws, const struct hl_world_state *st, co
 				hl_road_centre(road, (k + 1) * step, &c);
 				place(&st->ego, foot, c.heading_rad, &ob);
 				bound(v, &ob);
-				if (ob.row1 < row0 || ob.row0 > row1 || ob.col1 < 0 ||
-				    ob.col0 >= v->w)
+				if (!in_band(v, &ob, row0, row1))
 					continue;
 				if (n == max) {
 					dropped++;
@@ -324,8 +345,12 @@ static bool near_line(double d, double centre, double width)
 	return fabs(d - centre) <= width / 2;
 }
 
-/* What the ground is at road coordinates (s, d). */
-static enum hl_surface classify(const struct hl_road *road, double s, double d, double *albedo)
+/*
+ * What the ground is at (x, y) (world) with lateral offset d on part k of the road: s is
+ * computed only where a dashed line needs it.
+ */
+static enum hl_surface classify(const struct hl_road *road, const struct hl_road_proj *proj, int k,
+				double x, double y, double d, double *albedo)
 {
 	const double half = hl_road_half_width(road), ad = fabs(d);
 
@@ -344,11 +369,14 @@ static enum hl_surface classify(const struct hl_road *road, double s, double d, 
 		for (int i = 1; i < road->lanes; i++) {
 			const double c = -half + i * road->lane_width_m;
 			const double period = road->dash_m + road->gap_m;
+			double s;
 
 			if (!near_line(d, c, road->separator_line_width_m))
 				continue;
-			if (road->separator == HL_MARK_SOLID ||
-			    s - period * floor(s / period) < road->dash_m)
+			if (road->separator == HL_MARK_SOLID)
+				return HL_SURF_MARKING;
+			s = hl_road_proj_s(proj, k, x, y);
+			if (s - period * floor(s / period) < road->dash_m)
 				return HL_SURF_MARKING;
 		}
 	}
@@ -356,21 +384,28 @@ static enum hl_surface classify(const struct hl_road *road, double s, double d, 
 	return HL_SURF_ROAD;
 }
 
-static void ground(const struct hl_road *road, const struct hl_body_pose *ego, const double o[3],
-		   const double d[3], struct hit *best)
+/* The ego pose's rotation, once per band. */
+struct ego_xf {
+	double x, y, c, s;
+};
+
+static void ground(const struct hl_world_scene *ws, const struct ego_xf *xf, const double o[3],
+		   const double d[3], int *hint, struct hit *best)
 {
-	double t, p[3], w[3], s, dd, albedo = 0.0;
+	double t, px, py, wx, wy, dd, albedo = 0.0;
 	enum hl_surface id;
+	int k;
 
 	if (!(d[2] < 0.0) || o[2] <= 0.0)
 		return;
 	t = -o[2] / d[2];
-	p[0] = o[0] + t * d[0];
-	p[1] = o[1] + t * d[1];
-	p[2] = 0.0;
-	hl_ego_to_world(ego, p, w);
-	hl_road_project(road, w[0], w[1], &s, &dd);
-	id = classify(road, s, dd, &albedo);
+	px = o[0] + t * d[0];
+	py = o[1] + t * d[1];
+	wx = xf->x + px * xf->c - py * xf->s;
+	wy = xf->y + px * xf->s + py * xf->c;
+	k = hl_road_proj_lateral(&ws->proj, wx, wy, *hint, &dd);
+	*hint = k;
+	id = classify(&ws->sc->road, &ws->proj, k, wx, wy, dd, &albedo);
 	if (id == HL_SURF_NONE)
 		return;
 	*best = (struct hit){ t, { 0, 0, 1 }, id, albedo, true };
@@ -390,9 +425,18 @@ int hl_world_scene_render_rows(struct hl_world_scene *ws, const struct hl_world_
 		return -EINVAL;
 	if (nrows == 0)
 		return 0;
+	const struct ego_xf xf = { st->ego.pos_m[0], st->ego.pos_m[1], cos(st->ego.heading_rad),
+				   sin(st->ego.heading_rad) };
+	double tx, ty;
+	int hint = -1;
+
 	view_init(cam, &v);
+	/* The ray through (x, y) is f + sx r + sy u, as hl_camera_ray(). */
+	ty = 1.0 / v.ky;
+	tx = 1.0 / v.kx;
 	n = gather(ws, st, &v, row0, row0 + nrows - 1, obs, HL_WORLD_MAX_OBJECTS);
 	for (int row = row0; row < row0 + nrows; row++) {
+		const double sy = (v.h / 2.0 - (row + 0.5)) * ty;
 		int m = 0;
 
 		for (int k = 0; k < n; k++)
@@ -402,10 +446,12 @@ int hl_world_scene_render_rows(struct hl_world_scene *ws, const struct hl_world_
 			const size_t i = (size_t)row * gb->width + col;
 			float *pos = gb->pos + 4 * i, *nrm = gb->nrm + 4 * i;
 			struct hit best = { INFINITY, { 0, 0, 0 }, HL_SURF_NONE, 0.0, false };
+			const double sx = (col + 0.5 - v.w / 2.0) * tx;
 			double d[3];
 
-			hl_camera_ray(cam, col + 0.5, row + 0.5, d);
-			ground(&ws->sc->road, &st->ego, cam->pos_m, d, &best);
+			for (int j = 0; j < 3; j++)
+				d[j] = v.f[j] + sx * v.r[j] + sy * v.u[j];
+			ground(ws, &xf, cam->pos_m, d, &hint, &best);
 			for (int k = 0; k < m; k++) {
 				const struct object *ob = &obs[cur[k]];
 
