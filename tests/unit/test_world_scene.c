@@ -221,6 +221,39 @@ static void emitters_face_and_hide(void **state)
 	hl_scenario_free(sc);
 }
 
+/*
+ * A car ahead in the ego's lane (seen from behind) with two lamps beside its body, where no
+ * body hides them: the one shining forward (headlamp) is not seen, the one shining back (tail)
+ * is.
+ */
+static void emitters_facing_without_occlusion(void **state)
+{
+	(void)state;
+	static const char text[] =
+		"{\"version\": 1, \"duration_s\": 10, \"road\": {\"segments\": ["
+		"{\"kind\": \"straight\", \"length_m\": 400}]},"
+		"\"actors\": [{\"id\": \"ahead\", \"kind\": \"car\", \"role\": \"preceding\","
+		" \"path\": {\"lane\": 1, \"start_s_m\": 30, \"speed_mps\": 0},"
+		" \"lamps\": [{\"kind\": \"headlamp\", \"pos_m\": [0, 1.5, 0.65], \"intensity_cd\": 100},"
+		"  {\"kind\": \"tail\", \"pos_m\": [0, 1.5, 0.65], \"intensity_cd\": 100}]}]}";
+	struct hl_scenario *sc = load(text);
+	struct hl_world_scene *ws;
+	struct hl_world_state st;
+	struct hl_camera cam = sc->ego.camera;
+	struct hl_world_emitter e[4];
+
+	cam.width = 320;
+	cam.height = 180;
+	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
+	hl_world_at(sc, 0.0, &st);
+	assert_int_equal(hl_world_scene_emitters(ws, &st, &cam, e, 4), 2);
+	assert_false(e[0].visible);
+	assert_true(e[1].visible);
+	assert_float_equal(e[1].illuminance_lx, 100.0 / (e[1].distance_m * e[1].distance_m), 1e-12);
+	hl_world_scene_free(ws);
+	hl_scenario_free(sc);
+}
+
 /* The ground class of road coordinates on the default two-lane road, computed here. */
 static int expected_ground(double s, double d, bool *ambiguous)
 {
@@ -372,6 +405,7 @@ int main(void)
 		cmocka_unit_test(road_project_straight_arc_straight),
 		cmocka_unit_test(ray_hits_actor_box),
 		cmocka_unit_test(emitters_face_and_hide),
+		cmocka_unit_test(emitters_facing_without_occlusion),
 		cmocka_unit_test(straight_iihs_ground_and_markings),
 		cmocka_unit_test(no_allocation_per_frame),
 	};
