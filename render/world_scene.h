@@ -22,7 +22,7 @@
  * Thread-safety: hl_world_scene_new()/_free() on one thread; hl_world_scene_render_rows() of
  * disjoint row bands may run on several threads at once for the same state and camera (each
  * call reads the state, the scenario and the camera and writes only its rows). Nothing here
- * allocates after _new().
+ * allocates after _new(); a band's call keeps its objects on the stack (about 64 KB).
  */
 #ifndef HL_RENDER_WORLD_SCENE_H
 #define HL_RENDER_WORLD_SCENE_H
