@@ -81,6 +81,161 @@ void hl_road_point(const struct hl_road *road, double s_m, double d_m, double re
 	ret[2] = 0.0;
 }
 
+void hl_road_proj_init(const struct hl_road *road, struct hl_road_proj *ret)
+{
+	struct hl_pose2 end;
+	int n = 0;
+
+	/* The run-on before s = 0 and after the end, then the segments. */
+	ret->part[n++] = (struct hl_road_proj_part){
+		.arc = false,
+		.s0_m = 0.0,
+		.lo_m = -INFINITY,
+		.hi_m = 0.0,
+		.x0_m = road->x0_m,
+		.y0_m = road->y0_m,
+		.c = cos(road->heading0_rad),
+		.s = sin(road->heading0_rad),
+		.half_m = INFINITY,
+	};
+	hl_road_centre(road, road->length_m, &end);
+	ret->part[n++] = (struct hl_road_proj_part){
+		.arc = false,
+		.s0_m = road->length_m,
+		.lo_m = 0.0,
+		.hi_m = INFINITY,
+		.x0_m = end.x_m,
+		.y0_m = end.y_m,
+		.c = cos(end.heading_rad),
+		.s = sin(end.heading_rad),
+		.half_m = INFINITY,
+	};
+	for (int i = 0; i < road->n_segments; i++) {
+		const struct hl_road_segment *seg = &road->seg[i];
+		struct hl_road_proj_part *pp = &ret->part[n++];
+		struct hl_pose2 mid, e;
+
+		in_segment(seg, seg->length_m / 2, &mid);
+		in_segment(seg, seg->length_m, &e);
+		*pp = (struct hl_road_proj_part){
+			.arc = seg->kind == HL_SEG_ARC,
+			.s0_m = seg->s0_m,
+			.lo_m = 0.0,
+			.hi_m = seg->length_m,
+			.x0_m = seg->x0_m,
+			.y0_m = seg->y0_m,
+			.c = cos(seg->heading0_rad),
+			.s = sin(seg->heading0_rad),
+			.mid_x_m = mid.x_m,
+			.mid_y_m = mid.y_m,
+			.half_m = seg->length_m / 2,
+			.x1_m = e.x_m,
+			.y1_m = e.y_m,
+		};
+		if (pp->arc) {
+			/* Centre to the left (turn +1) or right; the middle's radial direction. */
+			pp->turn = seg->turn;
+			pp->r0_m = seg->radius_m;
+			pp->cx_m = seg->x0_m - seg->turn * seg->radius_m * pp->s;
+			pp->cy_m = seg->y0_m + seg->turn * seg->radius_m * pp->c;
+			pp->mx = (mid.x_m - pp->cx_m) / seg->radius_m;
+			pp->my = (mid.y_m - pp->cy_m) / seg->radius_m;
+			pp->cos_half = cos(seg->length_m / (2.0 * seg->radius_m));
+		}
+	}
+	ret->n = n;
+}
+
+/* Squared distance from (x, y) to part pp and the lateral offset d. */
+static double part_dist2(const struct hl_road_proj_part *pp, double x, double y, double *ret_d)
+{
+	if (!pp->arc) {
+		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
+		const double u = dx * pp->c + dy * pp->s, d = -dx * pp->s + dy * pp->c;
+		const double uc = u < pp->lo_m ? pp->lo_m : u > pp->hi_m ? pp->hi_m : u;
+
+		*ret_d = d;
+		return (u - uc) * (u - uc) + d * d;
+	}
+	const double vx = x - pp->cx_m, vy = y - pp->cy_m, r = sqrt(vx * vx + vy * vy);
+
+	*ret_d = pp->turn * (pp->r0_m - r);
+	/* Within the arc's sector: the angle from its middle at most half its sweep. */
+	if (vx * pp->mx + vy * pp->my >= r * pp->cos_half)
+		return *ret_d * *ret_d;
+	/* Beyond an end: the nearer end point is the nearest point of this arc. */
+	{
+		const double a = (x - pp->x0_m) * (x - pp->x0_m) + (y - pp->y0_m) * (y - pp->y0_m);
+		const double b = (x - pp->x1_m) * (x - pp->x1_m) + (y - pp->y1_m) * (y - pp->y1_m);
+
+		return a < b ? a : b;
+	}
+}
+
+int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, int hint,
+			 double *ret_d_m)
+{
+	double best = INFINITY, d;
+	int k = -1;
+
+	/* The hint first (neighbouring pixels share their part): the others are culled sooner. */
+	if (hint >= 0 && hint < p->n) {
+		best = part_dist2(&p->part[hint], x_m, y_m, &d);
+		k = hint;
+		*ret_d_m = d;
+	}
+	for (int i = 0; i < p->n; i++) {
+		const struct hl_road_proj_part *pp = &p->part[i];
+		double dist2;
+
+		if (i == hint)
+			continue;
+		/* Every point of a part lies within half its length of its middle. */
+		if (isfinite(pp->half_m)) {
+			const double mx = x_m - pp->mid_x_m, my = y_m - pp->mid_y_m;
+			const double lb = sqrt(mx * mx + my * my) - pp->half_m;
+
+			if (lb > 0.0 && lb * lb >= best)
+				continue;
+		}
+		dist2 = part_dist2(pp, x_m, y_m, &d);
+		if (dist2 < best || (dist2 == best && i < k)) {
+			best = dist2;
+			k = i;
+			*ret_d_m = d;
+		}
+	}
+	return k;
+}
+
+double hl_road_proj_s(const struct hl_road_proj *p, int part, double x_m, double y_m)
+{
+	const struct hl_road_proj_part *pp = &p->part[part];
+	double u;
+
+	if (!pp->arc) {
+		u = (x_m - pp->x0_m) * pp->c + (y_m - pp->y0_m) * pp->s;
+	} else {
+		const double vx = x_m - pp->cx_m, vy = y_m - pp->cy_m;
+		const double a = atan2(pp->mx * vy - pp->my * vx, pp->mx * vx + pp->my * vy);
+
+		u = pp->hi_m / 2 + pp->turn * pp->r0_m * a;
+	}
+	u = u < pp->lo_m ? pp->lo_m : u > pp->hi_m ? pp->hi_m : u;
+	return pp->s0_m + u;
+}
+
+void hl_road_project(const struct hl_road *road, double x_m, double y_m, double *ret_s_m,
+		     double *ret_d_m)
+{
+	struct hl_road_proj p;
+	int k;
+
+	hl_road_proj_init(road, &p);
+	k = hl_road_proj_lateral(&p, x_m, y_m, -1, ret_d_m);
+	*ret_s_m = hl_road_proj_s(&p, k, x_m, y_m);
+}
+
 double hl_road_half_width(const struct hl_road *road)
 {
 	return road->lanes * road->lane_width_m / 2;

@@ -15,6 +15,8 @@
 #ifndef HL_RENDER_SCENARIO_GEOM_H
 #define HL_RENDER_SCENARIO_GEOM_H
 
+#include <stdbool.h>
+
 #include "render/camera.h"
 #include "render/scenario.h"
 
@@ -46,6 +48,44 @@ void hl_waypoints_layout(struct hl_path *path, double heading_rad);
 void hl_road_centre(const struct hl_road *road, double s_m, struct hl_pose2 *ret);
 /* The ground point at s, d metres to the left of the centre line (z = 0). */
 void hl_road_point(const struct hl_road *road, double s_m, double d_m, double ret[3]);
+/*
+ * The inverse of hl_road_point(): the road coordinates (s, d) of the ground point (x, y) (world,
+ * metres), exactly: the foot of the perpendicular on the nearest part of the centre line (a
+ * segment, or the straight run-on before s = 0 or after the road's end). An arc's points are
+ * measured by the angle about its centre (arcs up to a full turn). Allocates nothing.
+ */
+void hl_road_project(const struct hl_road *road, double x_m, double y_m, double *ret_s_m,
+		     double *ret_d_m);
+
+/*
+ * The same in two steps over a table made once per road, for many points (a ray cast frame):
+ * the lateral offset d and the part of the road nearest (no atan2), then s only where it is
+ * needed. The parts are the run-on before s = 0, the one after the end, and the segments.
+ */
+struct hl_road_proj_part {
+	bool arc;
+	int turn; /* arc: +1 left, -1 right */
+	double s0_m, lo_m, hi_m; /* s = s0 + u, u in [lo, hi] along the part */
+	double x0_m, y0_m, c, s; /* start and cos, sin of its heading there */
+	double x1_m, y1_m; /* end (a segment) */
+	double mid_x_m, mid_y_m, half_m; /* middle and half the length (run-ons: infinite) */
+	double cx_m, cy_m, r0_m, mx, my, cos_half; /* arc: centre, radius, middle's direction */
+};
+
+struct hl_road_proj {
+	int n;
+	struct hl_road_proj_part part[HL_SCN_MAX_SEGMENTS + 2];
+};
+
+void hl_road_proj_init(const struct hl_road *road, struct hl_road_proj *ret);
+/*
+ * d of (x, y) and the index of the nearest part (ties: the lower index). hint: a part to try
+ * first (e.g. the previous point's), or -1.
+ */
+int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, int hint,
+			 double *ret_d_m);
+/* s of (x, y) on part (as hl_road_proj_lateral() returned it). */
+double hl_road_proj_s(const struct hl_road_proj *p, int part, double x_m, double y_m);
 /* Lateral offset of lane (1.. from the right edge)'s centre line from the road's centre. */
 double hl_road_lane_offset(const struct hl_road *road, int lane);
 /* Half the road's width: its edges are at d = ±this. */

@@ -12,10 +12,10 @@
 #define DEG (M_PI / 180.0)
 
 /* Reflectances (albedo) of the surfaces. */
-#define ALBEDO_ROAD 0.12
-#define ALBEDO_MARKING 0.6
-#define ALBEDO_SHOULDER 0.07
-#define ALBEDO_POST 0.8
+#define ALBEDO_ROAD HL_ALBEDO_ROAD
+#define ALBEDO_MARKING HL_ALBEDO_MARKING
+#define ALBEDO_SHOULDER HL_ALBEDO_SHOULDER
+#define ALBEDO_POST HL_ALBEDO_POST
 #define ALBEDO_WALL 0.8
 #define ALBEDO_WALL_LINE 0.25
 #define ALBEDO_SPHERE 0.5

@@ -42,6 +42,9 @@ enum hl_surface {
 	HL_SURF_SPHERE,
 	HL_SURF_GRID,
 	HL_SURF_FLOOR,
+	HL_SURF_VEHICLE, /* a road user's body (render/world_scene.h) */
+	HL_SURF_PEDESTRIAN,
+	HL_SURF_CYCLIST,
 };
 
 #define HL_SPHERE_RADIUS_M 10.0

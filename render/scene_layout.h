@@ -25,4 +25,10 @@
 #define WALL_LINE_DEG 0.25 /* lines 0.25° wide, as seen from the lamps */
 #define WALL_STEP_DEG 5.0
 
+/* Reflectances (albedo) of the road scene's surfaces, shared with the moving scene. */
+#define HL_ALBEDO_ROAD 0.12
+#define HL_ALBEDO_MARKING 0.6
+#define HL_ALBEDO_SHOULDER 0.07
+#define HL_ALBEDO_POST 0.8
+
 #endif

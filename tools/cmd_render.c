@@ -37,7 +37,8 @@ static void usage(FILE *f)
 		"usage: hdlamp render (--lamps DIR | --lid LEFT.lid.exr [--lid RIGHT.lid.exr])\n"
 		"                     --out FILE.png|FILE.exr [options]\n"
 		"\n"
-		"Renders a still of a built-in scene lit by the lamps.\n"
+		"Renders a still of a built-in scene lit by the lamps. With --scenario FILE: stills\n"
+		"of a scenario's moving scene (hdlamp render --scenario x --help).\n"
 		"\n"
 		"  --lamps DIR          DIR/hd84_left.lid.exr and DIR/hd84_right.lid.exr\n"
 		"  --lid FILE           a lamp file; the first is the left lamp, the second the right\n"
@@ -826,6 +827,10 @@ int hl_cmd_render(int argc, char **argv)
 	float *lux = NULL, *cur = NULL;
 	int n_lamps = 0, rc, status = HL_EXIT_FAIL;
 
+	/* The moving scene of a scenario has its own options (cmd_render_scenario.c). */
+	for (int i = 1; i < argc && strcmp(argv[i], "--") != 0; i++)
+		if (strcmp(argv[i], "--scenario") == 0 || strncmp(argv[i], "--scenario=", 11) == 0)
+			return hl_cmd_render_scenario(argc, argv);
 	hl_gi_config_default(&GI_DEFAULTS);
 	rc = parse(argc, argv, &o);
 	if (rc)

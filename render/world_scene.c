@@ -1,0 +1,588 @@
+/* SPDX-License-Identifier: MIT */
+/* The moving scene at one instant, ray cast into an ego-frame G-buffer; the road users' lamps. */
+#include "render/world_scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/pixel.h"
+#include "render/scenario_geom.h"
+#include "render/scene_layout.h"
+
+#define NEAR_M 1e-3 /* corners nearer the camera plane than this: the box may cover any pixel */
+#define EMITTER_HIDDEN_M 0.05 /* a body this much before a lamp hides it */
+#define GLOW_FLOOR 0.002 /* a disc is drawn out to where it adds this much before tone mapping */
+#define GLOW_MAX_PX 48
+
+struct hl_world_scene {
+	const struct hl_scenario *sc;
+	struct hl_road_proj proj; /* the road's parts, for the ground's road coordinates */
+	atomic_ulong objects_dropped;
+};
+
+/*
+ * A box in the ego frame: its own frame's origin o and heading (c, s of the angle from ego +x),
+ * extents lo..hi in that frame; the rows and columns of the image it may cover.
+ */
+struct object {
+	double o[3], c, s;
+	double lo[3], hi[3];
+	enum hl_surface id;
+	double albedo;
+	int row0, row1, col0, col1; /* inclusive */
+};
+
+struct hit {
+	double t;
+	double n[3];
+	enum hl_surface id;
+	double albedo;
+	bool ground;
+};
+
+int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret)
+{
+	struct hl_world_scene *ws = calloc(1, sizeof(*ws));
+
+	if (!ws)
+		return -ENOMEM;
+	ws->sc = sc;
+	hl_road_proj_init(&sc->road, &ws->proj);
+	atomic_init(&ws->objects_dropped, 0);
+	*ret = ws;
+	return 0;
+}
+
+void hl_world_scene_free(struct hl_world_scene *ws)
+{
+	free(ws);
+}
+
+unsigned long hl_world_scene_objects_dropped(const struct hl_world_scene *ws)
+{
+	return atomic_load(&((struct hl_world_scene *)ws)->objects_dropped);
+}
+
+void hl_world_to_ego(const struct hl_body_pose *ego, const double w[3], double ret[3])
+{
+	const double c = cos(ego->heading_rad), s = sin(ego->heading_rad);
+	const double dx = w[0] - ego->pos_m[0], dy = w[1] - ego->pos_m[1];
+
+	ret[0] = dx * c + dy * s;
+	ret[1] = -dx * s + dy * c;
+	ret[2] = w[2] - ego->pos_m[2];
+}
+
+void hl_ego_to_world(const struct hl_body_pose *ego, const double local[3], double ret[3])
+{
+	hl_body_to_world(ego, local, ret);
+}
+
+static double dot(const double a[3], const double b[3])
+{
+	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The camera's projection as hl_camera_project(), with its basis computed once. */
+struct view {
+	double pos[3], r[3], u[3], f[3];
+	double kx, ky; /* pixels per unit of tangent */
+	int w, h;
+};
+
+static void view_init(const struct hl_camera *cam, struct view *v)
+{
+	const double t = tan(cam->fov_y_deg * M_PI / 360.0);
+
+	hl_camera_basis(cam, v->r, v->u, v->f);
+	memcpy(v->pos, cam->pos_m, sizeof(v->pos));
+	v->w = cam->width;
+	v->h = cam->height;
+	v->kx = cam->width / (2.0 * t * ((double)cam->width / cam->height));
+	v->ky = cam->height / (2.0 * t);
+}
+
+/* Camera depth of p and its image point; false when not in front of the camera. */
+static bool view_project(const struct view *v, const double p[3], double *x, double *y, double *z)
+{
+	const double d[3] = { p[0] - v->pos[0], p[1] - v->pos[1], p[2] - v->pos[2] };
+
+	*z = dot(d, v->f);
+	if (!(*z > NEAR_M))
+		return false;
+	*x = v->w / 2.0 + dot(d, v->r) / *z * v->kx;
+	*y = v->h / 2.0 - dot(d, v->u) / *z * v->ky;
+	return true;
+}
+
+/* The object's box corner (i: bit 0 x, bit 1 y, bit 2 z) in the ego frame. */
+static void corner(const struct object *ob, int i, double ret[3])
+{
+	const double lx = i & 1 ? ob->hi[0] : ob->lo[0], ly = i & 2 ? ob->hi[1] : ob->lo[1];
+
+	ret[0] = ob->o[0] + lx * ob->c - ly * ob->s;
+	ret[1] = ob->o[1] + lx * ob->s + ly * ob->c;
+	ret[2] = ob->o[2] + (i & 4 ? ob->hi[2] : ob->lo[2]);
+}
+
+/*
+ * The pixel rectangle the box can cover: all of the image when it reaches behind the camera,
+ * an empty one (row1 < row0) when it lies wholly behind it.
+ */
+static void bound(const struct view *v, struct object *ob)
+{
+	double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+	int behind = 0;
+
+	for (int i = 0; i < 8; i++) {
+		double p[3], x, y, z;
+
+		corner(ob, i, p);
+		if (!view_project(v, p, &x, &y, &z)) {
+			behind++;
+			continue;
+		}
+		x0 = fmin(x0, x);
+		x1 = fmax(x1, x);
+		y0 = fmin(y0, y);
+		y1 = fmax(y1, y);
+	}
+	if (behind == 8) {
+		ob->row0 = ob->col0 = 0;
+		ob->row1 = ob->col1 = -1;
+		return;
+	}
+	if (behind) {
+		ob->row0 = ob->col0 = 0;
+		ob->row1 = v->h - 1;
+		ob->col1 = v->w - 1;
+		return;
+	}
+	/* Pixel centres inside [x0, x1] belong to columns floor(x0 - 0.5) + 1 .. floor(x1 - 0.5). */
+	ob->col0 = (int)fmax(floor(x0 - 0.5), -1.0);
+	ob->col1 = (int)fmin(ceil(x1), (double)v->w);
+	ob->row0 = (int)fmax(floor(y0 - 0.5), -1.0);
+	ob->row1 = (int)fmin(ceil(y1), (double)v->h);
+}
+
+/* Whether an object's rectangle meets rows row0 .. row1 of the image. */
+static bool in_band(const struct view *v, const struct object *ob, int row0, int row1)
+{
+	return ob->row0 <= ob->row1 && ob->row1 >= row0 && ob->row0 <= row1 && ob->col1 >= 0 &&
+	       ob->col0 < v->w;
+}
+
+static double actor_albedo(const struct hl_actor *a)
+{
+	return a->reflectance;
+}
+
+static enum hl_surface actor_surface(const struct hl_actor *a)
+{
+	switch (a->kind) {
+	case HL_ACTOR_PEDESTRIAN:
+		return HL_SURF_PEDESTRIAN;
+	case HL_ACTOR_CYCLIST:
+		return HL_SURF_CYCLIST;
+	case HL_ACTOR_CAR:
+		break;
+	}
+	return HL_SURF_VEHICLE;
+}
+
+/* A body or post given by its world pose into an object in the ego frame. */
+static void place(const struct hl_body_pose *ego, const double pos_w[3], double heading_rad,
+		  struct object *ob)
+{
+	const double rel = heading_rad - ego->heading_rad;
+
+	hl_world_to_ego(ego, pos_w, ob->o);
+	ob->c = cos(rel);
+	ob->s = sin(rel);
+}
+
+static void actor_object(const struct hl_scenario *sc, const struct hl_world_state *st, int i,
+			 struct object *ob)
+{
+	const struct hl_actor *a = &sc->actor[i];
+
+	place(&st->ego, st->actor[i].pos_m, st->actor[i].heading_rad, ob);
+	ob->lo[0] = -a->size_m[0];
+	ob->hi[0] = 0.0;
+	ob->lo[1] = -a->size_m[1] / 2;
+	ob->hi[1] = a->size_m[1] / 2;
+	ob->lo[2] = 0.0;
+	ob->hi[2] = a->size_m[2];
+	ob->id = actor_surface(a);
+	ob->albedo = actor_albedo(a);
+}
+
+/* The ego's s on the road: from its lane path, else its projection. */
+static double ego_s(const struct hl_road *road, const struct hl_body_pose *ego)
+{
+	double s, d;
+
+	if (!isnan(ego->s_m))
+		return ego->s_m;
+	hl_road_project(road, ego->pos_m[0], ego->pos_m[1], &s, &d);
+	return s;
+}
+
+/*
+ * The bodies and posts whose pixel rectangles meet rows row0 .. row1 into obs (at most max);
+ * the rest are counted as dropped. Returns how many.
+ */
+static int gather(struct hl_world_scene *ws, const struct hl_world_state *st, const struct view *v,
+		  int row0, int row1, struct object *obs, int max)
+{
+	const struct hl_scenario *sc = ws->sc;
+	const struct hl_road *road = &sc->road;
+	const int n_posts = hl_road_post_count(road);
+	unsigned long dropped = 0;
+	int n = 0;
+
+	for (int i = 0; i < st->n_actors && i < sc->n_actors; i++) {
+		struct object ob;
+
+		actor_object(sc, st, i, &ob);
+		bound(v, &ob);
+		if (!in_band(v, &ob, row0, row1))
+			continue;
+		if (n == max) {
+			dropped++;
+			continue;
+		}
+		obs[n++] = ob;
+	}
+	if (n_posts > 0) {
+		const double s = ego_s(road, &st->ego), step = road->post_spacing_m;
+		const int k0 = (int)fmax(floor((s - HL_WORLD_POST_RANGE_M) / step) - 1, 0.0);
+		const int k1 = (int)fmin(ceil((s + HL_WORLD_POST_RANGE_M) / step), n_posts - 1.0);
+
+		for (int k = k0; k <= k1; k++)
+			for (int side = -1; side <= 1; side += 2) {
+				struct hl_pose2 c;
+				double foot[3];
+				struct object ob = {
+					.lo = { -HL_WORLD_POST_SIDE_M / 2,
+						-HL_WORLD_POST_SIDE_M / 2, 0.0 },
+					.hi = { HL_WORLD_POST_SIDE_M / 2, HL_WORLD_POST_SIDE_M / 2,
+						road->post_height_m },
+					.id = HL_SURF_POST,
+					.albedo = HL_ALBEDO_POST,
+				};
+
+				hl_road_post(road, k, side, foot);
+				hl_road_centre(road, (k + 1) * step, &c);
+				place(&st->ego, foot, c.heading_rad, &ob);
+				bound(v, &ob);
+				if (!in_band(v, &ob, row0, row1))
+					continue;
+				if (n == max) {
+					dropped++;
+					continue;
+				}
+				obs[n++] = ob;
+			}
+	}
+	if (dropped)
+		atomic_fetch_add(&ws->objects_dropped, dropped);
+	return n;
+}
+
+/* Ray o + t d against the oriented box: keeps the entry point if nearer than best. */
+static void box_hit(const struct object *ob, const double o[3], const double d[3], struct hit *best)
+{
+	/* Into the box's frame: translate, then rotate by -heading. */
+	const double ox = o[0] - ob->o[0], oy = o[1] - ob->o[1];
+	const double lo_[3] = { ox * ob->c + oy * ob->s, -ox * ob->s + oy * ob->c,
+				o[2] - ob->o[2] };
+	const double ld[3] = { d[0] * ob->c + d[1] * ob->s, -d[0] * ob->s + d[1] * ob->c, d[2] };
+	double t0 = -INFINITY, t1 = INFINITY, n[3] = { 0, 0, 0 };
+	int axis = -1;
+
+	for (int i = 0; i < 3; i++) {
+		double a, b;
+
+		if (ld[i] == 0.0) {
+			if (lo_[i] < ob->lo[i] || lo_[i] > ob->hi[i])
+				return;
+			continue;
+		}
+		a = (ob->lo[i] - lo_[i]) / ld[i];
+		b = (ob->hi[i] - lo_[i]) / ld[i];
+		if (a > b) {
+			const double tmp = a;
+
+			a = b;
+			b = tmp;
+		}
+		if (a > t0) {
+			t0 = a;
+			axis = i;
+		}
+		if (b < t1)
+			t1 = b;
+	}
+	if (axis < 0 || t0 > t1 || !(t0 > 1e-6) || t0 >= best->t)
+		return;
+	n[axis] = ld[axis] > 0.0 ? -1.0 : 1.0;
+	best->t = t0;
+	/* The normal back into the ego frame. */
+	best->n[0] = n[0] * ob->c - n[1] * ob->s;
+	best->n[1] = n[0] * ob->s + n[1] * ob->c;
+	best->n[2] = n[2];
+	best->id = ob->id;
+	best->albedo = ob->albedo;
+	best->ground = false;
+}
+
+static bool near_line(double d, double centre, double width)
+{
+	return fabs(d - centre) <= width / 2;
+}
+
+/*
+ * What the ground is at (x, y) (world) with lateral offset d on part k of the road: s is
+ * computed only where a dashed line needs it.
+ */
+static enum hl_surface classify(const struct hl_road *road, const struct hl_road_proj *proj, int k,
+				double x, double y, double d, double *albedo)
+{
+	const double half = hl_road_half_width(road), ad = fabs(d);
+
+	if (ad > half) {
+		if (ad > HL_WORLD_GROUND_HALF_M)
+			return HL_SURF_NONE;
+		*albedo = HL_ALBEDO_SHOULDER;
+		return HL_SURF_SHOULDER;
+	}
+	*albedo = HL_ALBEDO_MARKING;
+	/* Edge lines: their outer border one line width inside the edge, as the road scene's. */
+	if (road->edge != HL_MARK_NONE &&
+	    near_line(ad, half - road->edge_line_width_m, road->edge_line_width_m))
+		return HL_SURF_MARKING;
+	if (road->separator != HL_MARK_NONE) {
+		for (int i = 1; i < road->lanes; i++) {
+			const double c = -half + i * road->lane_width_m;
+			const double period = road->dash_m + road->gap_m;
+			double s;
+
+			if (!near_line(d, c, road->separator_line_width_m))
+				continue;
+			if (road->separator == HL_MARK_SOLID)
+				return HL_SURF_MARKING;
+			s = hl_road_proj_s(proj, k, x, y);
+			if (s - period * floor(s / period) < road->dash_m)
+				return HL_SURF_MARKING;
+		}
+	}
+	*albedo = HL_ALBEDO_ROAD;
+	return HL_SURF_ROAD;
+}
+
+/* The ego pose's rotation, once per band. */
+struct ego_xf {
+	double x, y, c, s;
+};
+
+static void ground(const struct hl_world_scene *ws, const struct ego_xf *xf, const double o[3],
+		   const double d[3], int *hint, struct hit *best)
+{
+	double t, px, py, wx, wy, dd, albedo = 0.0;
+	enum hl_surface id;
+	int k;
+
+	if (!(d[2] < 0.0) || o[2] <= 0.0)
+		return;
+	t = -o[2] / d[2];
+	px = o[0] + t * d[0];
+	py = o[1] + t * d[1];
+	wx = xf->x + px * xf->c - py * xf->s;
+	wy = xf->y + px * xf->s + py * xf->c;
+	k = hl_road_proj_lateral(&ws->proj, wx, wy, *hint, &dd);
+	*hint = k;
+	id = classify(&ws->sc->road, &ws->proj, k, wx, wy, dd, &albedo);
+	if (id == HL_SURF_NONE)
+		return;
+	*best = (struct hit){ t, { 0, 0, 1 }, id, albedo, true };
+}
+
+int hl_world_scene_render_rows(struct hl_world_scene *ws, const struct hl_world_state *st,
+			       const struct hl_camera *cam, struct hl_gbuffer *gb, int row0,
+			       int nrows)
+{
+	struct object obs[HL_WORLD_MAX_OBJECTS];
+	int cur[HL_WORLD_MAX_OBJECTS];
+	struct view v;
+	int n;
+
+	if (cam->width != gb->width || cam->height != gb->height || row0 < 0 || nrows < 0 ||
+	    row0 + nrows > gb->height)
+		return -EINVAL;
+	if (nrows == 0)
+		return 0;
+	const struct ego_xf xf = { st->ego.pos_m[0], st->ego.pos_m[1], cos(st->ego.heading_rad),
+				   sin(st->ego.heading_rad) };
+	double tx, ty;
+	int hint = -1;
+
+	view_init(cam, &v);
+	/* The ray through (x, y) is f + sx r + sy u, as hl_camera_ray(). */
+	ty = 1.0 / v.ky;
+	tx = 1.0 / v.kx;
+	n = gather(ws, st, &v, row0, row0 + nrows - 1, obs, HL_WORLD_MAX_OBJECTS);
+	for (int row = row0; row < row0 + nrows; row++) {
+		const double sy = (v.h / 2.0 - (row + 0.5)) * ty;
+		int m = 0;
+
+		for (int k = 0; k < n; k++)
+			if (obs[k].row0 <= row && row <= obs[k].row1)
+				cur[m++] = k;
+		for (int col = 0; col < gb->width; col++) {
+			const size_t i = (size_t)row * gb->width + col;
+			float *pos = gb->pos + 4 * i, *nrm = gb->nrm + 4 * i;
+			struct hit best = { INFINITY, { 0, 0, 0 }, HL_SURF_NONE, 0.0, false };
+			const double sx = (col + 0.5 - v.w / 2.0) * tx;
+			double d[3];
+
+			for (int j = 0; j < 3; j++)
+				d[j] = v.f[j] + sx * v.r[j] + sy * v.u[j];
+			ground(ws, &xf, cam->pos_m, d, &hint, &best);
+			for (int k = 0; k < m; k++) {
+				const struct object *ob = &obs[cur[k]];
+
+				if (ob->col0 <= col && col <= ob->col1)
+					box_hit(ob, cam->pos_m, d, &best);
+			}
+			if (best.id == HL_SURF_NONE) {
+				memset(pos, 0, sizeof(float) * 4);
+				memset(nrm, 0, sizeof(float) * 4);
+				gb->albedo[i] = 0.0f;
+				continue;
+			}
+			for (int j = 0; j < 3; j++) {
+				pos[j] = (float)(cam->pos_m[j] + best.t * d[j]);
+				nrm[j] = (float)best.n[j];
+			}
+			/* The ground is exactly z = 0 (no rounding of t): its lamp terms stay put. */
+			if (best.ground)
+				pos[2] = 0.0f;
+			pos[3] = (float)best.albedo;
+			nrm[3] = (float)best.id;
+			gb->albedo[i] = pos[3];
+		}
+	}
+	return 0;
+}
+
+int hl_world_scene_render(struct hl_world_scene *ws, const struct hl_world_state *st,
+			  const struct hl_camera *cam, struct hl_gbuffer *gb)
+{
+	return hl_world_scene_render_rows(ws, st, cam, gb, 0, gb->height);
+}
+
+int hl_world_scene_emitters(const struct hl_world_scene *ws, const struct hl_world_state *st,
+			    const struct hl_camera *cam, struct hl_world_emitter *ret, int max)
+{
+	const struct hl_scenario *sc = ws->sc;
+	struct view v;
+	int n = 0;
+
+	view_init(cam, &v);
+	for (int i = 0; i < st->n_actors && i < sc->n_actors; i++) {
+		const struct hl_actor *a = &sc->actor[i];
+		const bool lit = i < 32 && (st->lamps_on >> i) & 1u;
+		const double rel = st->actor[i].heading_rad - st->ego.heading_rad;
+		const double fwd[3] = { cos(rel), sin(rel), 0.0 };
+
+		for (int l = 0; l < a->n_lamps && n < max; l++) {
+			const struct hl_emitter *em = &a->lamp[l];
+			struct hl_world_emitter *e = &ret[n++];
+			double w[3], p[3], d[3], z, facing;
+			struct hit best = { INFINITY, { 0, 0, 0 }, HL_SURF_NONE, 0.0, false };
+
+			hl_body_to_world(&st->actor[i], em->pos_m, w);
+			hl_world_to_ego(&st->ego, w, p);
+			for (int j = 0; j < 3; j++)
+				d[j] = p[j] - cam->pos_m[j];
+			*e = (struct hl_world_emitter){ .actor = i, .lamp = l };
+			memcpy(e->rgb, em->rgb, sizeof(e->rgb));
+			e->distance_m = sqrt(dot(d, d));
+			e->visible = view_project(&v, p, &e->x_px, &e->y_px, &z) && lit &&
+				     e->x_px >= 0.0 && e->x_px < v.w && e->y_px >= 0.0 &&
+				     e->y_px < v.h;
+			/* From the lamp toward the camera is -d: forward for a headlamp. */
+			facing = -dot(d, fwd);
+			if (em->kind == HL_EMITTER_TAIL)
+				facing = -facing;
+			e->visible = e->visible && facing > 0.0;
+			/* Any body on the way (t in units of d: 1 at the lamp). */
+			for (int k = 0; e->visible && k < st->n_actors && k < sc->n_actors; k++) {
+				struct object ob;
+
+				actor_object(sc, st, k, &ob);
+				box_hit(&ob, cam->pos_m, d, &best);
+			}
+			if (best.t < 1.0 - EMITTER_HIDDEN_M / e->distance_m)
+				e->visible = false;
+			if (e->visible)
+				e->illuminance_lx =
+					em->intensity_cd / (e->distance_m * e->distance_m);
+		}
+	}
+	return n;
+}
+
+/* sRGB8 back to linear, then through the inverse of x / (1 + x). */
+static double untone(uint8_t v)
+{
+	const double c = v / 255.0;
+	const double y = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+
+	return y >= 0.999 ? 999.0 : y / (1.0 - y);
+}
+
+static uint8_t tone(double x)
+{
+	return hl_pixel_srgb8((float)(x / (1.0 + x)));
+}
+
+void hl_world_emitters_draw(const struct hl_camera *cam, const struct hl_world_emitter *e, int n,
+			    double exposure_ev, uint8_t *rgb)
+{
+	const int w = cam->width, h = cam->height;
+	/* Solid angle of a pixel at the image centre; the glow's radius, a lens's blur. */
+	const double pix_rad = 2.0 * tan(cam->fov_y_deg * M_PI / 360.0) / h;
+	const double omega = pix_rad * pix_rad, sigma = fmax(0.6, w / 1280.0);
+	const double scale = exp2(exposure_ev);
+
+	for (int k = 0; k < n; k++) {
+		/* Luminance at the disc's centre: the illuminance spread as a Gaussian. */
+		const double peak = e[k].illuminance_lx / omega / (M_PI * sigma * sigma) * scale;
+		double reach;
+		int x0, x1, y0, y1;
+
+		if (!e[k].visible || !(peak > GLOW_FLOOR))
+			continue;
+		reach = fmin(sigma * sqrt(log(peak / GLOW_FLOOR)), GLOW_MAX_PX);
+		x0 = (int)fmax(floor(e[k].x_px - reach), 0.0);
+		x1 = (int)fmin(ceil(e[k].x_px + reach), w - 1.0);
+		y0 = (int)fmax(floor(e[k].y_px - reach), 0.0);
+		y1 = (int)fmin(ceil(e[k].y_px + reach), h - 1.0);
+		for (int y = y0; y <= y1; y++)
+			for (int x = x0; x <= x1; x++) {
+				const double dx = x + 0.5 - e[k].x_px, dy = y + 0.5 - e[k].y_px;
+				const double a = peak * exp(-(dx * dx + dy * dy) / (sigma * sigma));
+				uint8_t *px = rgb + 3 * ((size_t)y * w + x);
+
+				if (a < GLOW_FLOOR)
+					continue;
+				for (int c = 0; c < 3; c++)
+					px[c] = tone(untone(px[c]) + a * e[k].rgb[c]);
+			}
+	}
+}
