@@ -3,8 +3,8 @@
  * hdlamp-bench-moving: what a moving scene costs the render thread per frame, as one JSON
  * object. The road scene at 1280 x 720 from the driver's eye, lit by the HD84 pair (high beam,
  * ten sources changed per lamp per frame as in an ECU cycle), with road users moving in it:
- * a preceding car, an oncoming car closing at 30 m/s, a cyclist the ego passes, a pedestrian
- * crossing, and delineator posts sliding by at the ego's 15 m/s, each ray cast into the
+ * a preceding car, a car overtaking, an oncoming car closing at 30 m/s, a cyclist the ego
+ * passes, a pedestrian crossing, and delineator posts sliding by at the ego's 15 m/s, each ray cast into the
  * G-buffer as a box before the frame (not timed: in hdlampd that is the scene's job). A timed
  * frame is what the render thread does: the new currents, hl_renderer_set_gbuffer() with the
  * frame's G-buffer, the headlight pass (only the pixels whose geometry changed recomputed) and
@@ -67,7 +67,10 @@ static int boxes_at(double t, struct box *b)
 
 	/* preceding car in the ego lane, slowly nearer */
 	b[n++] =
-		(struct box){ { 18.0 - 0.5 * t, -2.65, 0 }, { 22.5 - 0.5 * t, -0.85, 1.45 }, 0.3f };
+		(struct box){ { 13.0 - 0.5 * t, -2.65, 0 }, { 17.5 - 0.5 * t, -0.85, 1.45 }, 0.3f };
+	/* a car overtaking in the left lane, 8 m -> 32 m at 6 m/s relative */
+	x = 8.0 + fmod(6.0 * t, 24.0);
+	b[n++] = (struct box){ { x - 4.5, 0.85, 0 }, { x, 2.65, 1.45 }, 0.3f };
 	/* oncoming car: 60 m -> 8 m, again and again */
 	x = 8.0 + fmod(52.0 - 30.0 * t + 520.0, 52.0);
 	b[n++] = (struct box){ { x - 4.5, 0.85, 0 }, { x, 2.65, 1.45 }, 0.3f };
