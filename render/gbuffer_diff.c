@@ -5,28 +5,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* What the headlight pass reads of one pixel, as bits: 28 bytes. */
-struct geo {
-	uint32_t p[3]; /* position, m (vehicle frame) */
-	uint32_t n[3]; /* unit normal */
-	uint32_t hit; /* 1: some surface, 0: nothing (the sky) */
-};
+/*
+ * The copy, per pixel, as the G-buffer holds it (bits): position xyz with the hit flag in the
+ * fourth lane (1: some surface, 0: nothing), normal xyz (the fourth lane unused). 32 bytes a
+ * pixel in the G-buffer's own layout, so that the comparison is a few 16-byte operations.
+ */
+typedef uint32_t v4u __attribute__((vector_size(16)));
 
 struct hl_gbuffer_diff {
 	int width, height;
-	struct geo *copy;
+	v4u *pos, *nrm;
 	uint8_t *changed;
 };
-
-static struct geo geo_of(const struct hl_gbuffer *gb, size_t i)
-{
-	struct geo g;
-
-	memcpy(g.p, gb->pos + 4 * i, sizeof(g.p));
-	memcpy(g.n, gb->nrm + 4 * i, sizeof(g.n));
-	g.hit = gb->nrm[4 * i + 3] != (float)HL_SURF_NONE;
-	return g;
-}
 
 int hl_gbuffer_diff_new(int width, int height, const struct hl_gbuffer *gb,
 			struct hl_gbuffer_diff **ret)
@@ -41,9 +31,10 @@ int hl_gbuffer_diff_new(int width, int height, const struct hl_gbuffer *gb,
 		return -ENOMEM;
 	d->width = width;
 	d->height = height;
-	d->copy = malloc(sizeof(*d->copy) * n);
+	d->pos = aligned_alloc(sizeof(v4u), sizeof(v4u) * n);
+	d->nrm = aligned_alloc(sizeof(v4u), sizeof(v4u) * n);
 	d->changed = calloc(n, 1);
-	if (!d->copy || !d->changed) {
+	if (!d->pos || !d->nrm || !d->changed) {
 		hl_gbuffer_diff_free(d);
 		return -ENOMEM;
 	}
@@ -58,7 +49,8 @@ void hl_gbuffer_diff_free(struct hl_gbuffer_diff *d)
 {
 	if (!d)
 		return;
-	free(d->copy);
+	free(d->pos);
+	free(d->nrm);
 	free(d->changed);
 	free(d);
 }
@@ -66,25 +58,37 @@ void hl_gbuffer_diff_free(struct hl_gbuffer_diff *d)
 size_t hl_gbuffer_diff_band(struct hl_gbuffer_diff *d, const struct hl_gbuffer *gb, size_t first,
 			    size_t count, bool all)
 {
+	const v4u xyz = { ~0u, ~0u, ~0u, 0 };
 	size_t n_changed = 0;
 
 	/*
-	 * Reads 32 bytes of the G-buffer and 28 of the copy per pixel: bound by memory, so no
-	 * calls and one well-predicted branch per pixel (most pixels keep their geometry).
+	 * Bound by memory (32 bytes of the G-buffer and 32 of the copy per pixel): first the
+	 * flags alone, straight-line 16-byte operations with no stores but the flag; then the
+	 * few changed pixels into the copy.
 	 */
-	for (size_t i = first; i < first + count; i++) {
-		const struct geo g = geo_of(gb, i);
-		struct geo *old = &d->copy[i];
-		const uint32_t moved = (g.p[0] ^ old->p[0]) | (g.p[1] ^ old->p[1]) |
-				       (g.p[2] ^ old->p[2]) | (g.n[0] ^ old->n[0]) |
-				       (g.n[1] ^ old->n[1]) | (g.n[2] ^ old->n[2]);
-		const bool changed = all || g.hit != old->hit || (g.hit && moved != 0);
+	if (all) { /* the copy may hold nothing yet: not read */
+		memset(d->changed + first, 1, count);
+		n_changed = count;
+	}
+	for (size_t i = first; !all && i < first + count; i++) {
+		v4u p, n;
+		uint32_t hit, moved;
+		v4u x;
 
-		d->changed[i] = changed;
-		if (changed) {
-			*old = g;
-			n_changed++;
-		}
+		memcpy(&p, gb->pos + 4 * i, sizeof(p));
+		memcpy(&n, gb->nrm + 4 * i, sizeof(n));
+		x = ((p ^ d->pos[i]) | (n ^ d->nrm[i])) & xyz;
+		moved = x[0] | x[1] | x[2];
+		hit = gb->nrm[4 * i + 3] != (float)HL_SURF_NONE;
+		d->changed[i] = (hit != d->pos[i][3]) | (hit & (moved != 0));
+		n_changed += d->changed[i];
+	}
+	for (size_t i = first; n_changed && i < first + count; i++) {
+		if (!d->changed[i])
+			continue;
+		memcpy(&d->pos[i], gb->pos + 4 * i, sizeof(v4u));
+		memcpy(&d->nrm[i], gb->nrm + 4 * i, sizeof(v4u));
+		d->pos[i][3] = gb->nrm[4 * i + 3] != (float)HL_SURF_NONE;
 	}
 	return n_changed;
 }

@@ -51,7 +51,7 @@ struct hl_renderer_config {
 	/*
 	 * The G-buffer will change (hl_renderer_set_gbuffer): make room for it now, with the
 	 * G-buffer given to hl_renderer_new() as the one the first new G-buffer is compared
-	 * against. Costs 28 bytes + 1 byte per pixel, and on the CPU the terms of every pixel
+	 * against. Costs 33 bytes per pixel, and on the CPU the terms of every pixel
 	 * (n_lamps x 12 bytes) instead of those of lit pixels.
 	 */
 	bool moving;
