@@ -16,6 +16,7 @@ struct hl_gl_headlight {
 	struct hl_headlight_lamp lamps[HL_HEADLIGHT_MAX_LAMPS];
 	GLuint program, pos, nrm, target, fbo;
 	GLuint terms[HL_HEADLIGHT_MAX_LAMPS]; /* PRECOMPUTED: per lamp (x, y, factor) */
+	GLuint terms_fbo[HL_HEADLIGHT_MAX_LAMPS], terms_program; /* PRECOMPUTED: the terms pass */
 	GLuint own[HL_HEADLIGHT_MAX_LAMPS]; /* textures for uploaded distributions */
 	GLuint lid[HL_HEADLIGHT_MAX_LAMPS]; /* what each lamp reads */
 	float *scratch;
@@ -48,38 +49,51 @@ static void set_uniforms(struct hl_gl_headlight *h, GLuint program)
 	hl_gl_lamp_uniforms(program, h->n_lamps, h->lamps);
 }
 
-/* PRECOMPUTED: the terms pass, once per lamp, into its RGBA32F texture. */
+/* PRECOMPUTED: the terms of rows y0 .. y0 + n_rows - 1, each lamp into its RGBA32F texture. */
+static void draw_terms(struct hl_gl_headlight *h, int y0, int n_rows)
+{
+	glDisable(GL_BLEND);
+	glUseProgram(h->terms_program);
+	glActiveTexture(GL_TEXTURE0);
+	glBindTexture(GL_TEXTURE_2D, h->pos);
+	glActiveTexture(GL_TEXTURE1);
+	glBindTexture(GL_TEXTURE_2D, h->nrm);
+	glActiveTexture(GL_TEXTURE0);
+	glEnable(GL_SCISSOR_TEST);
+	glScissor(0, y0, h->width, n_rows);
+	for (int k = 0; k < h->n_lamps; k++) {
+		glBindFramebuffer(GL_FRAMEBUFFER, h->terms_fbo[k]);
+		glViewport(0, 0, h->width, h->height);
+		glUniform1i(glGetUniformLocation(h->terms_program, "u_k"), k);
+		glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+	}
+	glDisable(GL_SCISSOR_TEST);
+	glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+/*
+ * PRECOMPUTED: the terms pass, its program and a target per lamp, kept for a moving scene's
+ * changed rows (hl_gl_headlight_update_rows), then drawn over the whole G-buffer.
+ */
 static int make_terms(struct hl_gl_headlight *h, char *log, size_t log_size)
 {
-	GLuint prog = 0, fbo;
-	int rc = build(1, &prog, log, log_size);
+	int rc = build(1, &h->terms_program, log, log_size);
 
 	if (rc < 0)
 		return rc;
-	set_uniforms(h, prog);
-	glDisable(GL_BLEND);
+	set_uniforms(h, h->terms_program);
 	for (int k = 0; k < h->n_lamps && rc == 0; k++) {
 		/* Made before the G-buffer is bound: making a texture binds it to the active unit. */
 		h->terms[k] = hl_gl_texture_float(h->width, h->height, true, NULL);
-		fbo = h->terms[k] ? hl_gl_framebuffer(h->terms[k]) : 0;
-		if (!fbo) {
+		h->terms_fbo[k] = h->terms[k] ? hl_gl_framebuffer(h->terms[k]) : 0;
+		if (!h->terms_fbo[k])
 			rc = -EIO;
-			break;
-		}
-		glActiveTexture(GL_TEXTURE0);
-		glBindTexture(GL_TEXTURE_2D, h->pos);
-		glActiveTexture(GL_TEXTURE1);
-		glBindTexture(GL_TEXTURE_2D, h->nrm);
-		glActiveTexture(GL_TEXTURE0);
-		glViewport(0, 0, h->width, h->height);
-		glUniform1i(glGetUniformLocation(prog, "u_k"), k);
-		glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-		glBindFramebuffer(GL_FRAMEBUFFER, 0);
-		glDeleteFramebuffers(1, &fbo);
 	}
-	glDeleteProgram(prog);
-	if (rc == 0 && glGetError() != GL_NO_ERROR)
-		rc = -EIO;
+	if (rc == 0) {
+		draw_terms(h, 0, h->height);
+		if (glGetError() != GL_NO_ERROR)
+			rc = -EIO;
+	}
 	if (rc < 0 && log && log_size)
 		snprintf(log, log_size, "cannot make the RGBA32F terms textures");
 	return rc;
@@ -160,8 +174,13 @@ void hl_gl_headlight_free(struct hl_gl_headlight *h)
 			glDeleteTextures(1, &tex[i]);
 	if (h->fbo)
 		glDeleteFramebuffers(1, &h->fbo);
+	for (int k = 0; k < HL_HEADLIGHT_MAX_LAMPS; k++)
+		if (h->terms_fbo[k])
+			glDeleteFramebuffers(1, &h->terms_fbo[k]);
 	if (h->program)
 		glDeleteProgram(h->program);
+	if (h->terms_program)
+		glDeleteProgram(h->terms_program);
 	free(h->scratch);
 	free(h);
 }
@@ -179,6 +198,29 @@ int hl_gl_headlight_upload(struct hl_gl_headlight *h, int k, const float *dense)
 	glBindTexture(GL_TEXTURE_2D, h->own[k]);
 	glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 	glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g->width, g->height, GL_RED, GL_FLOAT, dense);
+	return glGetError() == GL_NO_ERROR ? 0 : -EIO;
+}
+
+int hl_gl_headlight_update_rows(struct hl_gl_headlight *h, const struct hl_gbuffer *gb, int y0,
+				int n_rows)
+{
+	const size_t first = (size_t)y0 * h->width;
+
+	if (gb->width != h->width || gb->height != h->height || y0 < 0 || n_rows < 0 ||
+	    y0 + n_rows > h->height)
+		return -EINVAL;
+	if (n_rows == 0)
+		return 0;
+	glActiveTexture(GL_TEXTURE0);
+	glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+	glBindTexture(GL_TEXTURE_2D, h->pos);
+	glTexSubImage2D(GL_TEXTURE_2D, 0, 0, y0, h->width, n_rows, GL_RGBA, GL_FLOAT,
+			gb->pos + 4 * first);
+	glBindTexture(GL_TEXTURE_2D, h->nrm);
+	glTexSubImage2D(GL_TEXTURE_2D, 0, 0, y0, h->width, n_rows, GL_RGBA, GL_FLOAT,
+			gb->nrm + 4 * first);
+	if (h->mode == HL_GL_HEADLIGHT_PRECOMPUTED)
+		draw_terms(h, y0, n_rows);
 	return glGetError() == GL_NO_ERROR ? 0 : -EIO;
 }
 

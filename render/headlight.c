@@ -34,21 +34,36 @@ struct span {
 struct chunk {
 	size_t first_span, n_spans;
 	size_t first_term;
+	size_t work; /* pixel-lamp pairs with g > 0 */
+};
+
+/* A lamp's axes in the vehicle frame (hl_lamp_basis). */
+struct basis {
+	double x[3], y[3], z[3];
 };
 
 #define CHUNK_PIXELS 16384 /* 12.8 rows of 1280: ~60 chunks a frame, ~100 us each */
+/* Moving layout: room for a chunk's spans (at most one per two pixels, an unlit one between). */
+#define CHUNK_SPANS (CHUNK_PIXELS / 2)
 
 struct hl_headlight {
 	int width, height;
 	int n_lamps;
 	struct hl_headlight_lamp lamps[HL_HEADLIGHT_MAX_LAMPS];
+	struct basis basis[HL_HEADLIGHT_MAX_LAMPS];
 	struct span *spans;
 	size_t n_spans;
 	struct chunk *chunks;
 	size_t n_chunks;
-	struct term *terms; /* n_lamps per lit pixel, in pixel order, lamps interleaved */
-	size_t n_lit; /* pixels in the spans */
-	size_t work; /* pixel-lamp pairs with g > 0 */
+	/*
+	 * Still layout: n_lamps per lit pixel, in pixel order, lamps interleaved, packed. Moving
+	 * layout (hl_headlight_make_moving): n_lamps for every pixel, at n_lamps * its index;
+	 * chunk c's spans at c * CHUNK_SPANS.
+	 */
+	struct term *terms;
+	size_t n_lit; /* pixels in the spans (still layout) */
+	bool moving;
+	uint8_t *ever; /* moving layout: 1 for a pixel in the spans (lit now or before) */
 };
 
 /*
@@ -67,18 +82,20 @@ static bool sample_coords(const struct hl_lid_grid *g, const double d[3], double
 	return *fx >= 0.0 && *fx <= g->width - 1 && *fy >= 0.0 && *fy <= g->height - 1;
 }
 
-/* Lamp-space offset d of point p, and cos(eps) / r^2 for normal n (0 when facing away). */
-static double geometry(const struct hl_lamp_pose *pose, const double p[3], const double n[3],
-		       double d[3])
+/*
+ * Lamp-space offset d of point p, and cos(eps) / r^2 for normal n (0 when facing away); b the
+ * lamp's axes (hl_lamp_basis of its pose, made once per lamp).
+ */
+static double geometry(const struct hl_lamp_pose *pose, const struct basis *b, const double p[3],
+		       const double n[3], double d[3])
 {
-	double x[3], y[3], z[3], w[3], r2, cos_eps;
+	double w[3], r2, cos_eps;
 
-	hl_lamp_basis(pose, x, y, z);
 	for (int i = 0; i < 3; i++)
 		w[i] = p[i] - pose->pos_m[i];
-	d[0] = w[0] * x[0] + w[1] * x[1] + w[2] * x[2];
-	d[1] = w[0] * y[0] + w[1] * y[1] + w[2] * y[2];
-	d[2] = w[0] * z[0] + w[1] * z[1] + w[2] * z[2];
+	d[0] = w[0] * b->x[0] + w[1] * b->x[1] + w[2] * b->x[2];
+	d[1] = w[0] * b->y[0] + w[1] * b->y[1] + w[2] * b->y[2];
+	d[2] = w[0] * b->z[0] + w[1] * b->z[1] + w[2] * b->z[2];
 	r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
 	if (!(r2 > 0.0))
 		return 0.0;
@@ -86,13 +103,36 @@ static double geometry(const struct hl_lamp_pose *pose, const double p[3], const
 	return cos_eps > 0.0 ? cos_eps / r2 : 0.0;
 }
 
-/* The term of one lamp at one G-buffer entry; g = 0 when it does not light it. */
-static struct term make_term(const struct hl_headlight_lamp *lamp, const float *pf, const float *nf)
+/* hl_headlight_tap() with the lamp's axes made already. */
+static bool tap_with(const struct hl_headlight_lamp *lamp, const struct basis *b, const double p[3],
+		     const double n[3], struct hl_headlight_tap *ret)
+{
+	const struct hl_lid_grid *g = &lamp->grid;
+	double d[3], fx, fy, geo;
+	int x0, y0;
+
+	*ret = (struct hl_headlight_tap){ 0 };
+	geo = geometry(&lamp->pose, b, p, n, d);
+	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
+		return false;
+	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
+	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
+	*ret = (struct hl_headlight_tap){
+		.cell = (size_t)y0 * g->width + x0,
+		.tx = fx - x0,
+		.ty = fy - y0,
+		.g = geo,
+	};
+	return true;
+}
+
+/* The term of lamp k at one G-buffer entry; g = 0 when it does not light it. */
+static struct term make_term(const struct hl_headlight *h, int k, const float *pf, const float *nf)
 {
 	const double p[3] = { pf[0], pf[1], pf[2] }, nn[3] = { nf[0], nf[1], nf[2] };
 	struct hl_headlight_tap tap;
 
-	if (nf[3] == (float)HL_SURF_NONE || !hl_headlight_tap(lamp, p, nn, &tap))
+	if (nf[3] == (float)HL_SURF_NONE || !tap_with(&h->lamps[k], &h->basis[k], p, nn, &tap))
 		return (struct term){ 0 };
 	return (struct term){
 		.cell = (uint32_t)tap.cell,
@@ -131,9 +171,9 @@ static int precompute(struct hl_headlight *h, const struct hl_gbuffer *gb)
 		}
 
 		for (int k = 0; k < nl; k++) {
-			t[k] = make_term(&h->lamps[k], gb->pos + 4 * i, gb->nrm + 4 * i);
+			t[k] = make_term(h, k, gb->pos + 4 * i, gb->nrm + 4 * i);
 			lit |= t[k].g > 0.0f;
-			h->work += t[k].g > 0.0f;
+			h->chunks[i / CHUNK_PIXELS].work += t[k].g > 0.0f;
 		}
 		if (!lit) {
 			prev_lit = false;
@@ -180,6 +220,8 @@ int hl_headlight_new(const struct hl_gbuffer *gb, int n_lamps,
 	h->height = gb->height;
 	h->n_lamps = n_lamps;
 	memcpy(h->lamps, lamps, sizeof(*lamps) * n_lamps);
+	for (int k = 0; k < n_lamps; k++)
+		hl_lamp_basis(&lamps[k].pose, h->basis[k].x, h->basis[k].y, h->basis[k].z);
 	rc = precompute(h, gb);
 	if (rc < 0) {
 		hl_headlight_free(h);
@@ -196,7 +238,103 @@ void hl_headlight_free(struct hl_headlight *h)
 	free(h->terms);
 	free(h->spans);
 	free(h->chunks);
+	free(h->ever);
 	free(h);
+}
+
+int hl_headlight_make_moving(struct hl_headlight *h)
+{
+	const size_t npix = (size_t)h->width * h->height, nl = (size_t)h->n_lamps;
+	struct term *terms;
+	struct span *spans;
+	uint8_t *ever;
+
+	if (h->moving)
+		return 0;
+	terms = calloc(npix ? npix * nl : 1, sizeof(*terms));
+	spans = malloc(sizeof(*spans) * (h->n_chunks ? h->n_chunks * CHUNK_SPANS : 1));
+	ever = calloc(npix ? npix : 1, 1);
+	if (!terms || !spans || !ever) {
+		free(terms);
+		free(spans);
+		free(ever);
+		return -ENOMEM;
+	}
+	/* Each lit pixel's terms to its own place, each chunk's spans to its own room. */
+	for (size_t c = 0; c < h->n_chunks; c++) {
+		struct chunk *ch = &h->chunks[c];
+		const struct term *t = h->terms + ch->first_term;
+
+		for (size_t s = 0; s < ch->n_spans; s++) {
+			const struct span sp = h->spans[ch->first_span + s];
+
+			memcpy(terms + sp.first * nl, t, sizeof(*t) * nl * sp.count);
+			t += nl * sp.count;
+			memset(ever + sp.first, 1, sp.count);
+			spans[c * CHUNK_SPANS + s] = sp;
+		}
+		ch->first_span = c * CHUNK_SPANS;
+		ch->first_term = c * CHUNK_PIXELS * nl;
+	}
+	free(h->terms);
+	free(h->spans);
+	h->terms = terms;
+	h->spans = spans;
+	h->ever = ever;
+	h->moving = true;
+	return 0;
+}
+
+/* Moving layout: chunk c's spans again from the pixels in them (h->ever). */
+static void chunk_spans(struct hl_headlight *h, size_t c, size_t first, size_t count)
+{
+	struct chunk *ch = &h->chunks[c];
+	struct span *sp = h->spans + ch->first_span;
+	size_t n = 0;
+	bool prev = false;
+
+	for (size_t i = first; i < first + count; i++) {
+		if (!h->ever[i]) {
+			prev = false;
+			continue;
+		}
+		if (!prev)
+			sp[n++] = (struct span){ (uint32_t)i, 0 };
+		sp[n - 1].count++;
+		prev = true;
+	}
+	ch->n_spans = n;
+}
+
+void hl_headlight_update_chunk(struct hl_headlight *h, const struct hl_gbuffer *gb, size_t c,
+			       const uint8_t *changed)
+{
+	const int nl = h->n_lamps;
+	struct chunk *ch = &h->chunks[c];
+	size_t first, count;
+	bool grew = false;
+
+	hl_headlight_chunk_pixels(h, c, &first, &count);
+	for (size_t i = first; i < first + count; i++) {
+		struct term *t = h->terms + i * nl;
+		bool lit = false;
+
+		if (!changed[i])
+			continue;
+		for (int k = 0; k < nl; k++) {
+			ch->work -= t[k].g > 0.0f;
+			t[k] = make_term(h, k, gb->pos + 4 * i, gb->nrm + 4 * i);
+			ch->work += t[k].g > 0.0f;
+			lit |= t[k].g > 0.0f;
+		}
+		/* A pixel that goes dark keeps its place with zero terms: frames write its zero. */
+		if (lit && !h->ever[i]) {
+			h->ever[i] = 1;
+			grew = true;
+		}
+	}
+	if (grew)
+		chunk_spans(h, c, first, count);
 }
 
 static inline float lookup(const struct term *t, const float *restrict s0, size_t w)
@@ -258,6 +396,8 @@ void hl_headlight_run_chunk(const struct hl_headlight *h, const float *const *de
 		/* Pixels between spans no lamp reaches. */
 		memset(lux + prev_end, 0, sizeof(float) * (h->spans[s].first - prev_end));
 		prev_end = (size_t)h->spans[s].first + h->spans[s].count;
+		if (h->moving)
+			t = h->terms + (size_t)h->spans[s].first * h->n_lamps;
 		t = light_span(h, dense, h->spans[s], t, lux);
 	}
 	memset(lux + prev_end, 0, sizeof(float) * (first + count - prev_end));
@@ -270,6 +410,8 @@ void hl_headlight_run_chunk_lit(const struct hl_headlight *h, const float *const
 	const struct term *t = h->terms + ch->first_term;
 
 	for (size_t s = ch->first_span; s < ch->first_span + ch->n_spans; s++) {
+		if (h->moving)
+			t = h->terms + (size_t)h->spans[s].first * h->n_lamps;
 		t = light_span(h, dense, h->spans[s], t, lux);
 		if (span)
 			span(userdata, lux, h->spans[s].first, h->spans[s].count);
@@ -284,29 +426,20 @@ void hl_headlight_run(const struct hl_headlight *h, const float *const *dense, f
 
 size_t hl_headlight_work(const struct hl_headlight *h)
 {
-	return h->work;
+	size_t work = 0;
+
+	for (size_t c = 0; c < h->n_chunks; c++)
+		work += h->chunks[c].work;
+	return work;
 }
 
 bool hl_headlight_tap(const struct hl_headlight_lamp *lamp, const double p[3], const double n[3],
 		      struct hl_headlight_tap *ret)
 {
-	const struct hl_lid_grid *g = &lamp->grid;
-	double d[3], fx, fy, geo;
-	int x0, y0;
+	struct basis b;
 
-	*ret = (struct hl_headlight_tap){ 0 };
-	geo = geometry(&lamp->pose, p, n, d);
-	if (geo == 0.0 || !sample_coords(g, d, &fx, &fy))
-		return false;
-	x0 = fx > g->width - 2 ? g->width - 2 : (int)fx;
-	y0 = fy > g->height - 2 ? g->height - 2 : (int)fy;
-	*ret = (struct hl_headlight_tap){
-		.cell = (size_t)y0 * g->width + x0,
-		.tx = fx - x0,
-		.ty = fy - y0,
-		.g = geo,
-	};
-	return true;
+	hl_lamp_basis(&lamp->pose, b.x, b.y, b.z);
+	return tap_with(lamp, &b, p, n, ret);
 }
 
 double hl_headlight_tap_lookup(const struct hl_headlight_tap *t, const float *dense, int width)

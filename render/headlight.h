@@ -5,16 +5,23 @@
  * the lamp's angle system (type A or B, exact), I a bilinear lookup of the lamp's combined
  * distribution with samples at texel centres and zero outside the grid. Lamps add.
  *
- * Scene, camera and lamp poses are static between frames, so hl_headlight_new() computes per
- * pixel and lamp what does not depend on the currents: the sample cell, the bilinear weights
- * and cos(eps) / r^2. A frame (hl_headlight_run) is then only the four lookups, the
- * weighting and the sum, over the pixels a lamp can reach.
+ * Lamp poses are fixed and the G-buffer changes seldom or never, so hl_headlight_new()
+ * computes per pixel and lamp what does not depend on the currents: the sample cell, the
+ * bilinear weights and cos(eps) / r^2. A frame (hl_headlight_run) is then only the four
+ * lookups, the weighting and the sum, over the pixels a lamp can reach.
  *
  * A frame is also available in bands of pixels (chunks) that several threads can light at
  * once: hl_headlight_run() is every chunk in turn.
  *
- * Thread-safety: one thread builds and frees the object (the G-buffer is read only in _new);
- * hl_headlight_run_chunk() of different chunks may run on several threads at once.
+ * A moving scene (a new G-buffer each frame, render/renderer.h) switches the object once to
+ * the moving layout (hl_headlight_make_moving), where every pixel has room for its terms; then
+ * hl_headlight_update_chunk() recomputes the terms of the pixels that changed, chunk by chunk.
+ * A still scene never pays for it: its terms stay packed, lit pixels only.
+ *
+ * Thread-safety: one thread builds, switches and frees the object (the G-buffer is read only
+ * in _new and _update_chunk); hl_headlight_run_chunk() and hl_headlight_update_chunk() of
+ * different chunks may run on several threads at once (a chunk is lit after its update, by
+ * the same thread or after the threads have joined).
  */
 #ifndef HL_RENDER_HEADLIGHT_H
 #define HL_RENDER_HEADLIGHT_H
@@ -54,7 +61,8 @@ void hl_headlight_run_chunk(const struct hl_headlight *h, const float *const *de
 			    float *ret_lux);
 
 /*
- * The same for the pixels some lamp can reach only: the others keep what ret_lux holds, which
+ * The same for the pixels in the spans only (those some lamp can reach; in a moving scene also
+ * those some lamp reached in an earlier G-buffer): the others keep what ret_lux holds, which
  * is the right value (zero) when the caller zeroed the buffer once, since no frame makes them
  * anything else. span(userdata, ret_lux, first, count), if not NULL, is called for each run of
  * lit pixels as soon as it is done, while it is still in the cache.
@@ -63,7 +71,27 @@ typedef void (*hl_headlight_span_fn)(void *userdata, const float *lux, size_t fi
 void hl_headlight_run_chunk_lit(const struct hl_headlight *h, const float *const *dense, size_t c,
 				float *ret_lux, hl_headlight_span_fn span, void *userdata);
 
-/* Pixel-lamp pairs a frame visits (the work of one frame). */
+/*
+ * The moving layout: each pixel's terms at a place of its own (n_lamps x 12 bytes for every
+ * pixel, where the still layout holds lit pixels only), each chunk's spans in room for the
+ * most a chunk can have. The terms and spans made so far are kept. 0 (also when already
+ * moving), -ENOMEM. Allocates: call it once, before the frames.
+ */
+int hl_headlight_make_moving(struct hl_headlight *h);
+
+/*
+ * Moving layout: recomputes from gb (the size of the object's) the terms of every pixel of
+ * chunk c whose changed[i] (i the pixel's index in the image) is non-zero. A pixel some lamp
+ * reaches now that none reached before joins the chunk's spans. A pixel no lamp reaches any
+ * more stays in them with zero terms, so frames keep writing its zero (and pass it to the
+ * span callback): a buffer that an earlier frame lit holds zero there again, and the pixels
+ * outside the spans are still exactly those never lit since the object was made. Allocates
+ * nothing.
+ */
+void hl_headlight_update_chunk(struct hl_headlight *h, const struct hl_gbuffer *gb, size_t c,
+			       const uint8_t *changed);
+
+/* Pixel-lamp pairs a lamp reaches (the work of one frame, without the zero terms above). */
 size_t hl_headlight_work(const struct hl_headlight *h);
 
 /*

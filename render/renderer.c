@@ -9,6 +9,7 @@
 #include <GLES3/gl31.h>
 
 #include "lamp/combine.h"
+#include "render/gbuffer_diff.h"
 #include "render/gl_combine.h"
 #include "render/gl_headlight.h"
 #include "render/headlight.h"
@@ -29,6 +30,10 @@ struct hl_renderer {
 	bool dense_stale[2]; /* GL combine ran since dense was read back */
 	bool dirty[2]; /* currents changed since the last frame */
 	struct hl_workers *workers;
+	/* A moving scene (hl_renderer_set_gbuffer): the geometry as last lit, the next G-buffer. */
+	struct hl_gbuffer_diff *diff;
+	const struct hl_gbuffer *next_gb;
+	bool diff_all; /* the next frame recomputes every pixel: diff knows no G-buffer yet */
 };
 
 static const char *const backend_names[] = { "auto", "cpu", "gles" };
@@ -121,6 +126,20 @@ static enum hl_backend pick_headlight(struct hl_renderer *r, const struct hl_gbu
 	return t_gl < t_cpu ? HL_BACKEND_GLES : HL_BACKEND_CPU;
 }
 
+/*
+ * Ready for new G-buffers: the copy of the geometry to compare against (gb's, or none: the
+ * next frame then recomputes every pixel) and the CPU pass's moving layout.
+ */
+static int make_moving(struct hl_renderer *r, const struct hl_gbuffer *gb)
+{
+	int rc = hl_gbuffer_diff_new(r->width, r->height, gb, &r->diff);
+
+	if (rc < 0)
+		return rc;
+	r->diff_all = !gb;
+	return r->cpu_light ? hl_headlight_make_moving(r->cpu_light) : 0;
+}
+
 int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffer *gb,
 		    struct hl_renderer **ret)
 {
@@ -204,6 +223,11 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 		goto err_free;
 	for (int k = 0; r->gl_light && k < r->n_lamps; k++)
 		r->dirty[k] = true;
+	if (cfg->moving) {
+		rc = make_moving(r, gb);
+		if (rc < 0)
+			goto err_free;
+	}
 	*ret = r;
 	return 0;
 
@@ -224,6 +248,7 @@ void hl_renderer_free(struct hl_renderer *r)
 	hl_headlight_free(r->cpu_light);
 	hl_gl_headlight_free(r->gl_light);
 	hl_workers_free(r->workers);
+	hl_gbuffer_diff_free(r->diff);
 	free(r);
 }
 
@@ -256,6 +281,23 @@ int hl_renderer_set_currents(struct hl_renderer *r, int k, const float *i)
 	return changed;
 }
 
+int hl_renderer_set_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb)
+{
+	if (!gb || gb->width != r->width || gb->height != r->height)
+		return -EINVAL;
+	if (!r->diff) {
+		const int rc = make_moving(r, NULL);
+
+		if (rc < 0) {
+			hl_gbuffer_diff_free(r->diff);
+			r->diff = NULL;
+			return rc;
+		}
+	}
+	r->next_gb = gb;
+	return 0;
+}
+
 /* The CPU copy of lamp k's distribution, read back from GL when it changed there. */
 static const float *cpu_dense(struct hl_renderer *r, int k)
 {
@@ -275,12 +317,26 @@ struct frame_job {
 	float *lux;
 	hl_renderer_pixels_fn pixels;
 	void *userdata;
+	const struct hl_gbuffer *gb; /* a new G-buffer to take first, or NULL */
 };
+
+/* CPU, a new G-buffer: the terms of band c's pixels whose geometry changed. */
+static void update_band(const struct frame_job *j, size_t c)
+{
+	struct hl_renderer *r = j->r;
+	size_t first, count;
+
+	hl_headlight_chunk_pixels(r->cpu_light, c, &first, &count);
+	if (hl_gbuffer_diff_band(r->diff, j->gb, first, count, r->diff_all) > 0)
+		hl_headlight_update_chunk(r->cpu_light, j->gb, c, hl_gbuffer_diff_flags(r->diff));
+}
 
 static void light_band(void *arg, size_t c)
 {
 	const struct frame_job *j = arg;
 
+	if (j->gb)
+		update_band(j, c);
 	hl_headlight_run_chunk(j->r->cpu_light, j->dense, c, j->lux);
 }
 
@@ -288,6 +344,8 @@ static void light_band_lit(void *arg, size_t c)
 {
 	const struct frame_job *j = arg;
 
+	if (j->gb)
+		update_band(j, c);
 	hl_headlight_run_chunk_lit(j->r->cpu_light, j->dense, c, j->lux, j->pixels, j->userdata);
 }
 
@@ -300,10 +358,47 @@ static void view_band(void *arg, size_t c)
 		  n - first < GLES_BAND_PIXELS ? n - first : GLES_BAND_PIXELS);
 }
 
+/* GLES, a new G-buffer: which pixels of band c changed. */
+static void diff_band(void *arg, size_t c)
+{
+	const struct frame_job *j = arg;
+	const size_t n = (size_t)j->r->width * j->r->height, first = c * GLES_BAND_PIXELS;
+
+	hl_gbuffer_diff_band(j->r->diff, j->gb, first,
+			     n - first < GLES_BAND_PIXELS ? n - first : GLES_BAND_PIXELS,
+			     j->r->diff_all);
+}
+
+/* GLES, a new G-buffer: each run of rows with a changed pixel uploaded again. */
+static int update_gl(struct hl_renderer *r, struct frame_job *j)
+{
+	const size_t n = (size_t)r->width * r->height;
+	const uint8_t *changed;
+	int y0 = -1;
+
+	hl_workers_run(r->workers, (n + GLES_BAND_PIXELS - 1) / GLES_BAND_PIXELS, diff_band, j);
+	changed = hl_gbuffer_diff_flags(r->diff);
+	for (int y = 0; y <= r->height; y++) {
+		const bool row = y < r->height &&
+				 memchr(changed + (size_t)y * r->width, 1, r->width) != NULL;
+
+		if (row && y0 < 0)
+			y0 = y;
+		if (!row && y0 >= 0) {
+			if (hl_gl_headlight_update_rows(r->gl_light, j->gb, y0, y - y0) < 0)
+				return -EIO;
+			y0 = -1;
+		}
+	}
+	return 0;
+}
+
 int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_pixels_fn pixels,
 			     void *userdata)
 {
-	struct frame_job j = { .r = r, .lux = ret_lux, .pixels = pixels, .userdata = userdata };
+	struct frame_job j = {
+		.r = r, .lux = ret_lux, .pixels = pixels, .userdata = userdata, .gb = r->next_gb
+	};
 	const size_t n = (size_t)r->width * r->height;
 	int rc;
 
@@ -315,7 +410,18 @@ int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_
 		}
 		hl_workers_run(r->workers, hl_headlight_chunks(r->cpu_light),
 			       pixels ? light_band_lit : light_band, &j);
+		r->next_gb = NULL;
+		r->diff_all = false;
 		return 0;
+	}
+	if (j.gb) {
+		rc = update_gl(r, &j);
+		if (rc < 0) {
+			r->diff_all = true; /* some rows may be missing: all again next time */
+			return rc;
+		}
+		r->next_gb = NULL;
+		r->diff_all = false;
 	}
 	for (int k = 0; k < r->n_lamps; k++) {
 		if (r->gl_comb[k]) {

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The render path of one scene view: per lamp the combiner (L = sum_k i_k L_k, 32-bit), then
- * the headlight pass over a static G-buffer, giving illuminance per pixel. Each stage runs on
+ * the headlight pass over the scene's G-buffer, giving illuminance per pixel. Each stage runs on
  * the CPU or in GLES; HL_BACKEND_AUTO times both when the renderer is made (a few updates of
  * the combiner, one headlight frame) and keeps the faster on this machine. On a software
  * rasteriser (llvmpipe: GLES runs on the same cores) AUTO is the CPU without timing: there the
@@ -11,6 +11,14 @@
  * The CPU headlight pass and the per-pixel views after it are split into bands of pixels that
  * the renderer's threads (config threads: the calling thread and threads - 1 helpers) take in
  * turn.
+ *
+ * A still scene keeps the G-buffer given to hl_renderer_new(): its per-pixel lamp terms are
+ * computed once. A moving scene hands the renderer a new G-buffer before a frame
+ * (hl_renderer_set_gbuffer); the frame then recomputes what depends on the geometry only for
+ * the pixels whose position, normal or hit/miss changed (render/gbuffer_diff.h): on the CPU
+ * the lamp terms of those pixels, band by band on the renderer's threads; in GLES the rows
+ * holding them are uploaded again and their terms redrawn. Albedo and surface ids are not the
+ * pass's business: the views read them from the caller's G-buffer.
  *
  * Thread-safety: one thread (the render thread, which owns the EGL context when GLES is used);
  * a frame's pixels callback runs on that thread and on the helpers at once.
@@ -40,6 +48,13 @@ struct hl_renderer_config {
 	enum hl_backend headlight; /* AUTO: measured */
 	struct hl_egl *egl; /* needed for GLES stages; NULL for CPU only */
 	int threads; /* threads lighting a frame, the caller included; 0 = 1 */
+	/*
+	 * The G-buffer will change (hl_renderer_set_gbuffer): make room for it now, with the
+	 * G-buffer given to hl_renderer_new() as the one the first new G-buffer is compared
+	 * against. Costs 33 bytes per pixel, and on the CPU the terms of every pixel
+	 * (n_lamps x 12 bytes) instead of those of lit pixels.
+	 */
+	bool moving;
 };
 
 struct hl_renderer;
@@ -67,6 +82,17 @@ enum hl_backend hl_renderer_headlight_backend(const struct hl_renderer *r);
  */
 int hl_renderer_set_currents(struct hl_renderer *r, int k, const float *i);
 
+/*
+ * The next frame lights gb (the size given to hl_renderer_new(): -EINVAL otherwise), which
+ * must stay valid and unchanged until that frame has returned; gb may be the same object as
+ * before with new contents. Without config moving the first call makes room for moving scenes
+ * (allocates, -ENOMEM) and its frame recomputes every pixel; after that, and with moving,
+ * neither this nor a frame allocates, and a frame recomputes only the pixels that changed.
+ * A frame without a call before it lights the G-buffer it lit last, at the cost of a still
+ * scene. 0, -EINVAL, -ENOMEM.
+ */
+int hl_renderer_set_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb);
+
 /* One frame: combines what changed and lights the G-buffer into ret_lux (w * h floats). */
 int hl_renderer_frame(struct hl_renderer *r, float *ret_lux);
 
@@ -81,7 +107,10 @@ typedef void (*hl_renderer_pixels_fn)(void *userdata, const float *lux, size_t f
  * hl_renderer_frame(), and pixels() over each run of pixels while it is still in the cache. On
  * the CPU only the pixels some lamp can reach are written and passed to pixels(): the others
  * must be zero in ret_lux, and whatever pixels() fills must hold their value already (buffers
- * zeroed once and only ever used for this). GLES writes and passes every pixel.
+ * zeroed once and only ever used for this). In a moving scene "can reach" means: in this
+ * frame's G-buffer or in any G-buffer lit since hl_renderer_new() (a pixel that goes dark is
+ * written as zero, and passed, in every later frame), so that any number of buffers stay
+ * right. GLES writes and passes every pixel.
  */
 int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_pixels_fn pixels,
 			     void *userdata);
