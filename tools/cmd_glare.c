@@ -10,6 +10,7 @@
 #include "lamp/combine.h"
 #include "lamp/preset.h"
 #include "render/glare.h"
+#include "render/glare_plot.h"
 #include "tools/commands.h"
 #include "tools/preset_arg.h"
 
@@ -21,7 +22,7 @@ static void usage(FILE *f)
 	fprintf(f,
 		"usage: hdlamp glare --scenario FILE|NAME --lid LEFT.lid.exr --lid RIGHT.lid.exr\n"
 		"                    [--preset NAME|FILE] [--at T | --frames A:B:STEP] [--json]\n"
-		"                    [--regulation ID|SET.json] [--regulations DIR]\n"
+		"                    [--regulation ID|SET.json] [--regulations DIR] [--plot OUT.png]\n"
 		"\n"
 		"The light of the ego's lamps at each road user's eye (docs/scenarios.md, \"Glare at\n"
 		"road users' eyes\"): per frame and road user the time, id, kind, role, distance\n"
@@ -40,7 +41,10 @@ static void usage(FILE *f)
 		"  --json             one JSON object per road user and frame instead of the table\n"
 		"  --regulation ID    the limits: a set on half the pair's sum with \"Oncoming D m\"\n"
 		"                     and \"Preceding D m\" rows (default " DEFAULT_SET ")\n"
-		"  --regulations DIR  where the sets are (default: the installed ones)\n");
+		"  --regulations DIR  where the sets are (default: the installed ones)\n"
+		"  --plot OUT.png     also draw the timeline: half the pair's intensity toward each\n"
+		"                     road user's eye with its limit, the lux at the eye, and where\n"
+		"                     each is over its limit\n");
 }
 
 static bool ends_with(const char *s, const char *suffix)
@@ -250,7 +254,8 @@ int hl_cmd_glare(int argc, char **argv)
 		OPT_FRAMES,
 		OPT_JSON,
 		OPT_REG,
-		OPT_REGS
+		OPT_REGS,
+		OPT_PLOT
 	};
 	static const struct option opts[] = {
 		{ "scenario", required_argument, NULL, OPT_SCN },
@@ -261,10 +266,12 @@ int hl_cmd_glare(int argc, char **argv)
 		{ "json", no_argument, NULL, OPT_JSON },
 		{ "regulation", required_argument, NULL, OPT_REG },
 		{ "regulations", required_argument, NULL, OPT_REGS },
+		{ "plot", required_argument, NULL, OPT_PLOT },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
 	const char *scn = NULL, *lid_path[2] = { NULL, NULL }, *preset = "low", *set = DEFAULT_SET;
+	const char *plot = NULL;
 	char dir[4096] = "", *end;
 	bool as_json = false, have_at = false, have_frames = false;
 	double a = 0.0, b = 0.0, step = 1.0;
@@ -274,7 +281,7 @@ int hl_cmd_glare(int argc, char **argv)
 	struct hl_lid *lids[2] = { NULL, NULL };
 	float *dense[2] = { NULL, NULL };
 	struct hl_glare *g = NULL;
-	struct hl_glare_result res[HL_SCN_MAX_ACTORS];
+	struct hl_glare_result res[HL_SCN_MAX_ACTORS], *all = NULL;
 
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
@@ -321,6 +328,9 @@ int hl_cmd_glare(int argc, char **argv)
 		case OPT_REGS:
 			snprintf(dir, sizeof(dir), "%s", optarg);
 			break;
+		case OPT_PLOT:
+			plot = optarg;
+			break;
 		case 'h':
 			usage(stdout);
 			return HL_EXIT_OK;
@@ -364,6 +374,14 @@ int hl_cmd_glare(int argc, char **argv)
 		       "kind", "role", "dist_m", "I_left_cd", "I_right_cd", "I_half_cd", "E_lx",
 		       "limit_cd", "pass");
 	n_frames = (int)floor((b - a) / step + 1e-9) + 1;
+	if (plot) {
+		all = calloc((size_t)n_frames * sc->n_actors, sizeof(*all));
+		if (!all && sc->n_actors) {
+			fprintf(stderr, "hdlamp glare: out of memory for %d frames of the plot\n",
+				n_frames);
+			goto out;
+		}
+	}
 	for (int f = 0; f < n_frames; f++) {
 		const double t = a + f * step;
 
@@ -374,12 +392,27 @@ int hl_cmd_glare(int argc, char **argv)
 			else
 				print_row(sc, &res[i]);
 		}
+		if (all)
+			memcpy(all + (size_t)f * sc->n_actors, res, sizeof(*res) * sc->n_actors);
+	}
+	if (plot) {
+		char title[HL_SCN_TEXT_MAX + 128];
+
+		snprintf(title, sizeof(title), "%s  %s", sc->title, reg->id);
+		c = sc->n_actors ? hl_glare_plot_png(sc, all, n_frames, title, plot) : -EINVAL;
+		if (c < 0) {
+			fprintf(stderr, "hdlamp glare: --plot '%s': %s\n", plot,
+				c == -EINVAL ? "the scenario has no road users to plot" :
+					       strerror(-c));
+			goto out;
+		}
 	}
 	if (!as_json)
 		printf("\n%s: %d road users, %d frames, %d over the limit: %s\n", reg->id,
 		       sc->n_actors, n_frames, n_fail, n_fail ? "FAIL" : "PASS");
 	rc = n_fail ? HL_EXIT_FAIL : HL_EXIT_OK;
 out:
+	free(all);
 	hl_glare_free(g);
 	for (int k = 0; k < 2; k++) {
 		free(dense[k]);
