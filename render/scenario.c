@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "render/json_check.h"
+#include "lamp/json_check.h"
 #include "render/scenario_geom.h"
 
 #define DEG (M_PI / 180.0)
@@ -564,29 +564,15 @@ int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **r
 	struct hl_json_ctx c = { .name = name, .err = err };
 	struct hl_json_loc *loc = NULL;
 	struct hl_scenario *sc = NULL;
-	json_error_t jerr;
-	json_t *root;
+	json_t *root = NULL;
 	int rc;
 
-	if (err) {
-		memset(err, 0, sizeof(*err));
-		snprintf(err->file, sizeof(err->file), "%s", name);
-	}
-	root = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
-	if (!root) {
-		if (err) { /* jansson's place, at least line 1, column 1 */
-			err->line = jerr.line > 0 ? jerr.line : 1;
-			err->column = jerr.column > 0 ? jerr.column : 1;
-			snprintf(err->msg, sizeof(err->msg), "%s", jerr.text);
-		}
-		return -EBADMSG;
-	}
-	rc = hl_json_loc_new(text, &loc);
-	if (rc == 0) {
-		sc = calloc(1, sizeof(*sc));
-		rc = sc ? 0 : -ENOMEM;
-	}
-	if (rc < 0) {
+	rc = hl_json_parse(text, name, &root, &loc, err);
+	if (rc < 0)
+		return rc;
+	sc = calloc(1, sizeof(*sc));
+	if (!sc) {
+		rc = -ENOMEM;
 		if (err)
 			snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
 		goto err_free;

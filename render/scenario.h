@@ -23,7 +23,7 @@
 #include <stddef.h>
 
 #include "render/camera.h"
-#include "render/json_check.h"
+#include "lamp/json_check.h"
 
 #define HL_SCN_MAX_SEGMENTS 64
 #define HL_SCN_MAX_ACTORS 16
