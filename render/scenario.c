@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "lamp/json_check.h"
+#include "lamp/share_dir.h"
 #include "render/scenario_geom.h"
 
 #define DEG (M_PI / 180.0)
@@ -612,20 +612,7 @@ void hl_scenario_free(struct hl_scenario *sc)
 
 int hl_scenario_default_dir(char *buf, size_t size)
 {
-	char exe[4096];
-	const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-	char *slash;
-
-	if (n < 0)
-		return -errno;
-	exe[n] = '\0';
-	slash = strrchr(exe, '/');
-	if (!slash)
-		return -ENOENT;
-	*slash = '\0'; /* the executable's directory */
-	if ((size_t)snprintf(buf, size, "%s/../share/hdlamp/scenarios", exe) >= size)
-		return -ENAMETOOLONG;
-	return 0;
+	return hl_share_dir("scenarios", buf, size);
 }
 
 const char *hl_actor_kind_name(enum hl_actor_kind kind)

@@ -12,6 +12,7 @@
 #include "render/glare.h"
 #include "render/glare_plot.h"
 #include "tools/commands.h"
+#include "tools/json_out.h"
 #include "tools/preset_arg.h"
 
 #define DEFAULT_SET "unece-r149-01-adb-glare"
@@ -143,75 +144,52 @@ out:
 	return rc;
 }
 
-static void json_num(double x)
-{
-	if (isfinite(x))
-		printf("%.12g", x);
-	else
-		printf("null");
-}
-
-/* Ids, kinds and set names are checked text (no quotes or control characters in ids). */
-static void json_str(const char *s)
-{
-	putchar('"');
-	for (; *s; s++) {
-		if (*s == '"' || *s == '\\')
-			printf("\\%c", *s);
-		else if ((unsigned char)*s < 0x20)
-			printf("\\u%04x", *s);
-		else
-			putchar(*s);
-	}
-	putchar('"');
-}
-
 static void print_json(const struct hl_scenario *sc, const struct hl_regulation *reg,
 		       const struct hl_glare_result *r)
 {
 	const struct hl_actor *a = &sc->actor[r->actor];
 
 	printf("{\"t_s\": ");
-	json_num(r->t_s);
+	hl_tool_json_num(stdout, r->t_s);
 	printf(", \"id\": ");
-	json_str(a->id);
+	hl_tool_json_str(stdout, a->id);
 	printf(", \"kind\": \"%s\", \"role\": \"%s\", \"distance_m\": ",
 	       hl_actor_kind_name(a->kind), hl_actor_role_name(a->role));
-	json_num(r->distance_m);
+	hl_tool_json_num(stdout, r->distance_m);
 	printf(", \"axis_h_deg\": ");
-	json_num(r->axis_h_deg);
+	hl_tool_json_num(stdout, r->axis_h_deg);
 	printf(", \"eye_m\": [");
 	for (int k = 0; k < 3; k++) {
 		printf("%s", k ? ", " : "");
-		json_num(r->eye_m[k]);
+		hl_tool_json_num(stdout, r->eye_m[k]);
 	}
 	printf("], \"lamps\": [");
 	for (int l = 0; l < 2; l++) {
 		printf("%s{\"side\": \"%s\", \"h_deg\": ", l ? ", " : "", hl_side_name(l));
-		json_num(r->h_deg[l]);
+		hl_tool_json_num(stdout, r->h_deg[l]);
 		printf(", \"v_deg\": ");
-		json_num(r->v_deg[l]);
+		hl_tool_json_num(stdout, r->v_deg[l]);
 		printf(", \"r_m\": ");
-		json_num(r->r_m[l]);
+		hl_tool_json_num(stdout, r->r_m[l]);
 		printf(", \"intensity_cd\": ");
-		json_num(r->intensity_cd[l]);
+		hl_tool_json_num(stdout, r->intensity_cd[l]);
 		printf("}");
 	}
 	printf("], \"pair_half_cd\": ");
-	json_num(r->pair_half_cd);
+	hl_tool_json_num(stdout, r->pair_half_cd);
 	printf(", \"illuminance_lx\": ");
-	json_num(r->illuminance_lx);
+	hl_tool_json_num(stdout, r->illuminance_lx);
 	printf(", \"regulation\": ");
-	json_str(reg->id);
+	hl_tool_json_str(stdout, reg->id);
 	printf(", \"limit_id\": ");
 	if (r->limit.req >= 0)
-		json_str(reg->req[r->limit.req].id);
+		hl_tool_json_str(stdout, reg->req[r->limit.req].id);
 	else
 		printf("null");
 	printf(", \"limit_distance_m\": ");
-	json_num(r->limit.table_distance_m);
+	hl_tool_json_num(stdout, r->limit.table_distance_m);
 	printf(", \"limit_cd\": ");
-	json_num(r->limit.max_cd);
+	hl_tool_json_num(stdout, r->limit.max_cd);
 	printf(", \"pass\": %s}\n", r->pass ? "true" : "false");
 }
 
