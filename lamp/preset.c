@@ -2,16 +2,19 @@
 #include "lamp/preset.h"
 
 #include <errno.h>
-#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <jansson.h>
+
+#include "lamp/json_check.h"
 
 int hl_preset_new(int n_sources, struct hl_preset **ret)
 {
 	struct hl_preset *p;
 
-	if (n_sources < 1 || n_sources > 4096)
+	if (n_sources < 1 || n_sources > HL_PRESET_MAX_SOURCES)
 		return -EINVAL;
 	p = calloc(1, sizeof(*p));
 	if (!p)
@@ -36,229 +39,117 @@ void hl_preset_free(struct hl_preset *p)
 	free(p);
 }
 
-/* A strict reader for exactly the preset's shape; it knows where it is for error messages. */
-struct cursor {
-	const char *s;
-	int line, col;
-	struct hl_preset_error *err;
-};
-
-static int bad(struct cursor *c, const char *fmt, const char *what)
+/* The shared JSON error as the preset's: the key path leads the message. Returns rc. */
+static int to_preset_error(int rc, const struct hl_json_error *je, struct hl_preset_error *err)
 {
-	if (c->err) {
-		c->err->line = c->line;
-		c->err->column = c->col;
-		snprintf(c->err->msg, sizeof(c->err->msg), fmt, what);
+	if (err) {
+		err->line = je->line;
+		err->column = je->column;
+		snprintf(err->msg, sizeof(err->msg), "%s%s%s", je->key, je->key[0] ? ": " : "",
+			 je->msg);
 	}
-	return -EBADMSG;
+	return rc;
 }
 
-static void advance(struct cursor *c)
+/* root.side: an array of 1..HL_PRESET_MAX_SOURCES integers 0..63 into vals. */
+static int read_values(const struct hl_json_ctx *c, const json_t *root, enum hl_side side,
+		       uint8_t *vals, int *ret_n)
 {
-	if (*c->s == '\n') {
-		c->line++;
-		c->col = 1;
-	} else {
-		c->col++;
+	const char *key = hl_side_name(side);
+	const json_t *a = json_object_get(root, key);
+	char p[HL_JSON_PATH_MAX];
+
+	if (!a)
+		return hl_json_fail(c, key,
+				    "missing: expected both \"left\" and \"right\", each a list of "
+				    "dimming values");
+	if (!json_is_array(a) || json_array_size(a) == 0 ||
+	    json_array_size(a) > HL_PRESET_MAX_SOURCES)
+		return hl_json_fail(c, key, "expected a list of 1 to %d dimming values, found %s",
+				    HL_PRESET_MAX_SOURCES,
+				    !json_is_array(a)	    ? hl_json_type_name(a) :
+				    json_array_size(a) == 0 ? "an empty list" :
+							      "more");
+	for (size_t k = 0; k < json_array_size(a); k++) {
+		int v;
+
+		if (hl_json_int(c, hl_json_index(p, sizeof(p), key, k), json_array_get(a, k), 0,
+				HL_DIM_MAX, &v) < 0)
+			return -EBADMSG;
+		vals[k] = (uint8_t)v;
 	}
-	c->s++;
-}
-
-static void skip_space(struct cursor *c)
-{
-	while (*c->s == ' ' || *c->s == '\t' || *c->s == '\n' || *c->s == '\r')
-		advance(c);
-}
-
-static int expect(struct cursor *c, char ch, const char *what)
-{
-	skip_space(c);
-	if (*c->s != ch)
-		return bad(c, "expected %s", what);
-	advance(c);
+	*ret_n = (int)json_array_size(a);
 	return 0;
 }
 
-static int read_key(struct cursor *c, char *buf, size_t size)
+/* text (the contents of the file name) into a preset; err filled on failure. */
+static int parse(const char *text, const char *name, struct hl_preset **ret,
+		 struct hl_json_error *err)
 {
-	size_t n = 0;
+	static const char *const keys[] = { "left", "right", NULL };
+	struct hl_json_ctx c = { .name = name, .err = err };
+	uint8_t *vals = NULL;
+	int counts[2] = { 0, 0 }, rc;
+	struct hl_preset *p = NULL;
+	struct hl_json_loc *loc = NULL;
+	json_t *root = NULL;
 
-	if (expect(c, '"', "'\"' starting a key (\"left\" or \"right\")") < 0)
-		return -EBADMSG;
-	while (*c->s && *c->s != '"' && *c->s != '\n') {
-		if (n + 1 < size)
-			buf[n++] = *c->s;
-		advance(c);
+	rc = hl_json_parse(text, name, &root, &loc, err);
+	if (rc < 0)
+		return rc;
+	c.loc = loc;
+	vals = malloc(2 * HL_PRESET_MAX_SOURCES);
+	if (!vals) {
+		rc = -ENOMEM;
+		snprintf(err->msg, sizeof(err->msg), "out of memory");
+		goto out;
 	}
-	buf[n] = '\0';
-	return expect(c, '"', "'\"' closing the key");
-}
-
-/* Reads [v, v, ...] into a growing array; values are integers 0..63. */
-static int read_values(struct cursor *c, uint8_t **ret, int *ret_n)
-{
-	uint8_t *v = NULL;
-	int n = 0, cap = 0;
-
-	if (expect(c, '[', "'[' starting the list of dimming values") < 0)
-		return -EBADMSG;
-	skip_space(c);
-	if (*c->s == ']') {
-		free(v);
-		return bad(c, "%s", "expected at least one dimming value");
+	if (hl_json_check_object(&c, "", root, keys) < 0 ||
+	    read_values(&c, root, HL_SIDE_LEFT, vals, &counts[0]) < 0 ||
+	    read_values(&c, root, HL_SIDE_RIGHT, vals + HL_PRESET_MAX_SOURCES, &counts[1]) < 0) {
+		rc = -EBADMSG;
+		goto out;
 	}
-	for (;;) {
-		struct cursor at;
-		long x = 0;
-		int digits = 0;
-
-		skip_space(c);
-		at = *c; /* errors about a value point at its start */
-		while (*c->s >= '0' && *c->s <= '9' && digits < 4) {
-			x = x * 10 + (*c->s - '0');
-			digits++;
-			advance(c);
-		}
-		if (digits == 0 || (*c->s >= '0' && *c->s <= '9') || x > HL_DIM_MAX) {
-			free(v);
-			return bad(&at, "%s", "expected a dimming value: an integer 0..63");
-		}
-		if (n == cap) {
-			uint8_t *g;
-
-			cap = cap ? 2 * cap : 128;
-			if (cap > 4096) {
-				free(v);
-				return bad(c, "%s", "more than 4096 dimming values");
-			}
-			g = realloc(v, cap);
-			if (!g) {
-				free(v);
-				return -ENOMEM;
-			}
-			v = g;
-		}
-		v[n++] = (uint8_t)x;
-		skip_space(c);
-		if (*c->s == ']') {
-			advance(c);
-			break;
-		}
-		if (*c->s != ',') {
-			free(v);
-			return bad(c, "%s", "expected ',' or ']' after a dimming value");
-		}
-		advance(c);
+	if (counts[0] != counts[1]) {
+		rc = hl_json_fail(&c, "right",
+				  "has %d dimming values; expected as many as \"left\" (%d)",
+				  counts[1], counts[0]);
+		goto out;
 	}
-	*ret = v;
-	*ret_n = n;
-	return 0;
+	rc = hl_preset_new(counts[0], &p);
+	if (rc < 0) {
+		snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
+		goto out;
+	}
+	memcpy(p->dim[HL_SIDE_LEFT], vals, counts[0]);
+	memcpy(p->dim[HL_SIDE_RIGHT], vals + HL_PRESET_MAX_SOURCES, counts[1]);
+	*ret = p;
+out:
+	free(vals);
+	hl_json_loc_free(loc);
+	json_decref(root);
+	return rc;
 }
 
 int hl_preset_parse(const char *text, struct hl_preset **ret, struct hl_preset_error *err)
 {
-	struct cursor c = { text, 1, 1, err };
-	uint8_t *vals[2] = { NULL, NULL };
-	int counts[2] = { 0, 0 }, rc;
-	struct hl_preset *p;
+	struct hl_json_error je;
 
-	rc = expect(&c, '{', "'{' starting the preset object");
-	while (rc == 0) {
-		char key[32];
-		int side;
-
-		struct cursor at;
-
-		skip_space(&c);
-		at = c; /* errors about the key point at its start */
-		rc = read_key(&c, key, sizeof(key));
-		if (rc < 0)
-			break;
-		side = hl_side_from_name(key);
-		if (side < 0 || vals[side]) {
-			rc = bad(&at,
-				 side < 0 ? "unknown key '%s'; expected \"left\" or \"right\"" :
-					    "key '%s' given twice",
-				 key);
-			break;
-		}
-		rc = expect(&c, ':', "':' after the key");
-		if (rc == 0)
-			rc = read_values(&c, &vals[side], &counts[side]);
-		if (rc < 0)
-			break;
-		skip_space(&c);
-		if (*c.s == '}') {
-			advance(&c);
-			break;
-		}
-		rc = expect(&c, ',', "',' or '}' after a lamp's list");
-	}
-	if (rc == 0) {
-		skip_space(&c);
-		if (*c.s)
-			rc = bad(&c, "%s", "expected the end of the file after '}'");
-		else if (!vals[0] || !vals[1])
-			rc = bad(&c, "%s", "expected both \"left\" and \"right\"");
-		else if (counts[0] != counts[1])
-			rc = bad(&c, "%s", "expected as many values for \"left\" as for \"right\"");
-	}
-	if (rc == 0)
-		rc = hl_preset_new(counts[0], &p);
-	if (rc == 0) {
-		memcpy(p->dim[0], vals[0], counts[0]);
-		memcpy(p->dim[1], vals[1], counts[1]);
-		*ret = p;
-	}
-	free(vals[0]);
-	free(vals[1]);
-	return rc;
+	return to_preset_error(parse(text, "", ret, &je), &je, err);
 }
 
 int hl_preset_read(const char *path, struct hl_preset **ret, struct hl_preset_error *err)
 {
-	FILE *f = fopen(path, "re");
+	struct hl_json_error je;
 	char *text;
-	long size;
 	int rc;
 
-	if (err)
-		*err = (struct hl_preset_error){ 0 };
-	if (!f) {
-		rc = -errno;
-		if (err)
-			snprintf(err->msg, sizeof(err->msg), "%s", strerror(errno));
-		return rc;
-	}
-	if (fseek(f, 0, SEEK_END) < 0 || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) < 0 ||
-	    size > (1 << 20)) {
-		fclose(f);
-		if (err)
-			snprintf(err->msg, sizeof(err->msg),
-				 "not a readable file of at most 1 MiB");
-		return -EBADMSG;
-	}
-	text = malloc(size + 1);
-	if (!text) {
-		fclose(f);
-		return -ENOMEM;
-	}
-	if (fread(text, 1, size, f) != (size_t)size) {
+	rc = hl_json_read_file(path, &text, &je);
+	if (rc == 0) {
+		rc = parse(text, path, ret, &je);
 		free(text);
-		fclose(f);
-		return -EIO;
 	}
-	fclose(f);
-	text[size] = '\0';
-	if (strlen(text) != (size_t)size) {
-		free(text);
-		if (err)
-			snprintf(err->msg, sizeof(err->msg), "contains a NUL byte");
-		return -EBADMSG;
-	}
-	rc = hl_preset_parse(text, ret, err);
-	free(text);
-	return rc;
+	return rc < 0 ? to_preset_error(rc, &je, err) : 0;
 }
 
 int hl_preset_write(const struct hl_preset *p, const char *path)

@@ -2,6 +2,8 @@
 /*
  * Presets: the ECU's raw 6-bit dimming values for both lamps, as JSON
  * {"left": [v1, ..., vK], "right": [...]} with integers 0..63 (docs/design.md §1: i_k = v_k / 63).
+ * Read with jansson and checked by lamp/json_check.h: an error names the line and column and
+ * leads its message with the key path ("left[3]: ...").
  */
 #ifndef HL_TOOLS_PRESET_H
 #define HL_TOOLS_PRESET_H
@@ -9,6 +11,7 @@
 #include <stdint.h>
 
 #define HL_DIM_MAX 63 /* largest 6-bit dimming value */
+#define HL_PRESET_MAX_SOURCES 4096 /* per lamp */
 
 enum hl_side {
 	HL_SIDE_LEFT,
@@ -22,14 +25,17 @@ struct hl_preset {
 
 struct hl_preset_error {
 	int line, column; /* 1-based; 0 when the fault has no place (e.g. file missing) */
-	char msg[256];
+	char msg[512]; /* "KEY: " and what was expected */
 };
 
 /* All zero, n_sources per lamp. 0, -EINVAL, -ENOMEM. */
 int hl_preset_new(int n_sources, struct hl_preset **ret);
 void hl_preset_free(struct hl_preset *p);
 
-/* 0, -ENOENT/-errno (cannot open), -EBADMSG (malformed; err says line, column, expected). */
+/*
+ * 0, -ENOENT/-errno (cannot open; err->line 0), -EBADMSG (malformed; err says line, column, key
+ * path and what was expected), -ENOMEM.
+ */
 int hl_preset_read(const char *path, struct hl_preset **ret, struct hl_preset_error *err);
 int hl_preset_parse(const char *text, struct hl_preset **ret, struct hl_preset_error *err);
 /* 0 or -errno. */

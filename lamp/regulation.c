@@ -8,9 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "lamp/regulation.h"
+#include "lamp/share_dir.h"
 
 /* What the parser needs to say where a fault is. */
 struct ctx {
@@ -618,20 +618,7 @@ int hl_regulation_load(const char *dir, const char *id, struct hl_regulation **r
 
 int hl_regulation_default_dir(char *buf, size_t size)
 {
-	char exe[4096];
-	const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-	char *slash;
-
-	if (n < 0)
-		return -errno;
-	exe[n] = '\0';
-	slash = strrchr(exe, '/');
-	if (!slash)
-		return -ENOENT;
-	*slash = '\0'; /* the executable's directory */
-	if ((size_t)snprintf(buf, size, "%s/../share/hdlamp/regulations", exe) >= size)
-		return -ENAMETOOLONG;
-	return 0;
+	return hl_share_dir("regulations", buf, size);
 }
 
 static int cmp_str(const void *a, const void *b)

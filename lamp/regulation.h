@@ -119,9 +119,8 @@ int hl_regulation_load(const char *dir, const char *id, struct hl_regulation **r
 		       struct hl_regulation_error *err);
 
 /*
- * The shipped sets' directory: share/hdlamp/regulations beside the running executable's bin/
- * directory (/usr/bin/hdlamp -> /usr/share/hdlamp/regulations; in the build tree the build links
- * build/share/hdlamp/regulations to the source's regulations/). 0 or -errno.
+ * The shipped sets' directory: hl_share_dir("regulations") (lamp/share_dir.h), e.g.
+ * /usr/bin/hdlamp -> /usr/share/hdlamp/regulations. 0 or -errno.
  */
 int hl_regulation_default_dir(char *buf, size_t size);
 

@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
-#include "render/json_check.h"
+#include "lamp/json_check.h"
+#include "lamp/share_dir.h"
 #include "render/scenario_geom.h"
 
 #define DEG (M_PI / 180.0)
@@ -564,29 +564,15 @@ int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **r
 	struct hl_json_ctx c = { .name = name, .err = err };
 	struct hl_json_loc *loc = NULL;
 	struct hl_scenario *sc = NULL;
-	json_error_t jerr;
-	json_t *root;
+	json_t *root = NULL;
 	int rc;
 
-	if (err) {
-		memset(err, 0, sizeof(*err));
-		snprintf(err->file, sizeof(err->file), "%s", name);
-	}
-	root = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
-	if (!root) {
-		if (err) { /* jansson's place, at least line 1, column 1 */
-			err->line = jerr.line > 0 ? jerr.line : 1;
-			err->column = jerr.column > 0 ? jerr.column : 1;
-			snprintf(err->msg, sizeof(err->msg), "%s", jerr.text);
-		}
-		return -EBADMSG;
-	}
-	rc = hl_json_loc_new(text, &loc);
-	if (rc == 0) {
-		sc = calloc(1, sizeof(*sc));
-		rc = sc ? 0 : -ENOMEM;
-	}
-	if (rc < 0) {
+	rc = hl_json_parse(text, name, &root, &loc, err);
+	if (rc < 0)
+		return rc;
+	sc = calloc(1, sizeof(*sc));
+	if (!sc) {
+		rc = -ENOMEM;
 		if (err)
 			snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
 		goto err_free;
@@ -626,20 +612,7 @@ void hl_scenario_free(struct hl_scenario *sc)
 
 int hl_scenario_default_dir(char *buf, size_t size)
 {
-	char exe[4096];
-	const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-	char *slash;
-
-	if (n < 0)
-		return -errno;
-	exe[n] = '\0';
-	slash = strrchr(exe, '/');
-	if (!slash)
-		return -ENOENT;
-	*slash = '\0'; /* the executable's directory */
-	if ((size_t)snprintf(buf, size, "%s/../share/hdlamp/scenarios", exe) >= size)
-		return -ENAMETOOLONG;
-	return 0;
+	return hl_share_dir("scenarios", buf, size);
 }
 
 const char *hl_actor_kind_name(enum hl_actor_kind kind)

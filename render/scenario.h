@@ -23,7 +23,7 @@
 #include <stddef.h>
 
 #include "render/camera.h"
-#include "render/json_check.h"
+#include "lamp/json_check.h"
 
 #define HL_SCN_MAX_SEGMENTS 64
 #define HL_SCN_MAX_ACTORS 16
@@ -142,9 +142,8 @@ int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **r
 void hl_scenario_free(struct hl_scenario *sc);
 
 /*
- * The shipped scenarios' directory: share/hdlamp/scenarios beside the running executable's bin/
- * directory (in the build tree a link to the source's scenarios/), as
- * hl_regulation_default_dir(). 0 or -errno.
+ * The shipped scenarios' directory: hl_share_dir("scenarios") (lamp/share_dir.h), e.g.
+ * /usr/bin/hdlamp -> /usr/share/hdlamp/scenarios. 0 or -errno.
  */
 int hl_scenario_default_dir(char *buf, size_t size);
 

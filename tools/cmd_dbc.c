@@ -12,6 +12,7 @@
 #include "can/e2e.h"
 #include "dbc/database.h"
 #include "tools/commands.h"
+#include "tools/json_out.h"
 
 static void usage(FILE *f)
 {
@@ -450,20 +451,6 @@ static uint64_t page_of(const struct hl_dbc_message *m, const struct hl_dbc_valu
 	return 0;
 }
 
-static void put_string(FILE *out, const char *s)
-{
-	putc('"', out);
-	for (; *s; s++) {
-		if (*s == '"' || *s == '\\')
-			fprintf(out, "\\%c", *s);
-		else if ((unsigned char)*s < 0x20)
-			fprintf(out, "\\u%04x", *s);
-		else
-			putc(*s, out);
-	}
-	putc('"', out);
-}
-
 static int decode(const char *dbc_path, unsigned flags, const char *log_path)
 {
 	struct hl_dbc *db;
@@ -522,7 +509,7 @@ static int decode(const char *dbc_path, unsigned flags, const char *log_path)
 			/* counted, never decoded; python-can writes them with no data bytes */
 			fprintf(out, "{\"t\":%lld.%06lld,\"iface\":", (long long)(f.t_us / 1000000),
 				(long long)(f.t_us % 1000000));
-			put_string(out, f.iface);
+			hl_tool_json_str(out, f.iface);
 			fprintf(out, ",\"id\":\"0x%08x\",\"error_frame\":true,\"len\":%u}\n",
 				f.frame.can_id & (CAN_ERR_FLAG | CAN_ERR_MASK), f.frame.len);
 			error_frames++;
@@ -533,7 +520,7 @@ static int decode(const char *dbc_path, unsigned flags, const char *log_path)
 			id = f.frame.can_id; /* never matches a message */
 		fprintf(out, "{\"t\":%lld.%06lld,\"iface\":", (long long)(f.t_us / 1000000),
 			(long long)(f.t_us % 1000000));
-		put_string(out, f.iface);
+		hl_tool_json_str(out, f.iface);
 		fprintf(out,
 			(f.frame.can_id & CAN_EFF_FLAG) ? ",\"id\":\"0x%08x\"" :
 							  ",\"id\":\"0x%03x\"",

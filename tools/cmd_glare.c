@@ -10,7 +10,9 @@
 #include "lamp/combine.h"
 #include "lamp/preset.h"
 #include "render/glare.h"
+#include "render/glare_plot.h"
 #include "tools/commands.h"
+#include "tools/json_out.h"
 #include "tools/preset_arg.h"
 
 #define DEFAULT_SET "unece-r149-01-adb-glare"
@@ -21,7 +23,7 @@ static void usage(FILE *f)
 	fprintf(f,
 		"usage: hdlamp glare --scenario FILE|NAME --lid LEFT.lid.exr --lid RIGHT.lid.exr\n"
 		"                    [--preset NAME|FILE] [--at T | --frames A:B:STEP] [--json]\n"
-		"                    [--regulation ID|SET.json] [--regulations DIR]\n"
+		"                    [--regulation ID|SET.json] [--regulations DIR] [--plot OUT.png]\n"
 		"\n"
 		"The light of the ego's lamps at each road user's eye (docs/scenarios.md, \"Glare at\n"
 		"road users' eyes\"): per frame and road user the time, id, kind, role, distance\n"
@@ -40,7 +42,10 @@ static void usage(FILE *f)
 		"  --json             one JSON object per road user and frame instead of the table\n"
 		"  --regulation ID    the limits: a set on half the pair's sum with \"Oncoming D m\"\n"
 		"                     and \"Preceding D m\" rows (default " DEFAULT_SET ")\n"
-		"  --regulations DIR  where the sets are (default: the installed ones)\n");
+		"  --regulations DIR  where the sets are (default: the installed ones)\n"
+		"  --plot OUT.png     also draw the timeline: half the pair's intensity toward each\n"
+		"                     road user's eye with its limit, the lux at the eye, and where\n"
+		"                     each is over its limit\n");
 }
 
 static bool ends_with(const char *s, const char *suffix)
@@ -139,75 +144,52 @@ out:
 	return rc;
 }
 
-static void json_num(double x)
-{
-	if (isfinite(x))
-		printf("%.12g", x);
-	else
-		printf("null");
-}
-
-/* Ids, kinds and set names are checked text (no quotes or control characters in ids). */
-static void json_str(const char *s)
-{
-	putchar('"');
-	for (; *s; s++) {
-		if (*s == '"' || *s == '\\')
-			printf("\\%c", *s);
-		else if ((unsigned char)*s < 0x20)
-			printf("\\u%04x", *s);
-		else
-			putchar(*s);
-	}
-	putchar('"');
-}
-
 static void print_json(const struct hl_scenario *sc, const struct hl_regulation *reg,
 		       const struct hl_glare_result *r)
 {
 	const struct hl_actor *a = &sc->actor[r->actor];
 
 	printf("{\"t_s\": ");
-	json_num(r->t_s);
+	hl_tool_json_num(stdout, r->t_s);
 	printf(", \"id\": ");
-	json_str(a->id);
+	hl_tool_json_str(stdout, a->id);
 	printf(", \"kind\": \"%s\", \"role\": \"%s\", \"distance_m\": ",
 	       hl_actor_kind_name(a->kind), hl_actor_role_name(a->role));
-	json_num(r->distance_m);
+	hl_tool_json_num(stdout, r->distance_m);
 	printf(", \"axis_h_deg\": ");
-	json_num(r->axis_h_deg);
+	hl_tool_json_num(stdout, r->axis_h_deg);
 	printf(", \"eye_m\": [");
 	for (int k = 0; k < 3; k++) {
 		printf("%s", k ? ", " : "");
-		json_num(r->eye_m[k]);
+		hl_tool_json_num(stdout, r->eye_m[k]);
 	}
 	printf("], \"lamps\": [");
 	for (int l = 0; l < 2; l++) {
 		printf("%s{\"side\": \"%s\", \"h_deg\": ", l ? ", " : "", hl_side_name(l));
-		json_num(r->h_deg[l]);
+		hl_tool_json_num(stdout, r->h_deg[l]);
 		printf(", \"v_deg\": ");
-		json_num(r->v_deg[l]);
+		hl_tool_json_num(stdout, r->v_deg[l]);
 		printf(", \"r_m\": ");
-		json_num(r->r_m[l]);
+		hl_tool_json_num(stdout, r->r_m[l]);
 		printf(", \"intensity_cd\": ");
-		json_num(r->intensity_cd[l]);
+		hl_tool_json_num(stdout, r->intensity_cd[l]);
 		printf("}");
 	}
 	printf("], \"pair_half_cd\": ");
-	json_num(r->pair_half_cd);
+	hl_tool_json_num(stdout, r->pair_half_cd);
 	printf(", \"illuminance_lx\": ");
-	json_num(r->illuminance_lx);
+	hl_tool_json_num(stdout, r->illuminance_lx);
 	printf(", \"regulation\": ");
-	json_str(reg->id);
+	hl_tool_json_str(stdout, reg->id);
 	printf(", \"limit_id\": ");
 	if (r->limit.req >= 0)
-		json_str(reg->req[r->limit.req].id);
+		hl_tool_json_str(stdout, reg->req[r->limit.req].id);
 	else
 		printf("null");
 	printf(", \"limit_distance_m\": ");
-	json_num(r->limit.table_distance_m);
+	hl_tool_json_num(stdout, r->limit.table_distance_m);
 	printf(", \"limit_cd\": ");
-	json_num(r->limit.max_cd);
+	hl_tool_json_num(stdout, r->limit.max_cd);
 	printf(", \"pass\": %s}\n", r->pass ? "true" : "false");
 }
 
@@ -250,7 +232,8 @@ int hl_cmd_glare(int argc, char **argv)
 		OPT_FRAMES,
 		OPT_JSON,
 		OPT_REG,
-		OPT_REGS
+		OPT_REGS,
+		OPT_PLOT
 	};
 	static const struct option opts[] = {
 		{ "scenario", required_argument, NULL, OPT_SCN },
@@ -261,10 +244,12 @@ int hl_cmd_glare(int argc, char **argv)
 		{ "json", no_argument, NULL, OPT_JSON },
 		{ "regulation", required_argument, NULL, OPT_REG },
 		{ "regulations", required_argument, NULL, OPT_REGS },
+		{ "plot", required_argument, NULL, OPT_PLOT },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
 	const char *scn = NULL, *lid_path[2] = { NULL, NULL }, *preset = "low", *set = DEFAULT_SET;
+	const char *plot = NULL;
 	char dir[4096] = "", *end;
 	bool as_json = false, have_at = false, have_frames = false;
 	double a = 0.0, b = 0.0, step = 1.0;
@@ -274,7 +259,7 @@ int hl_cmd_glare(int argc, char **argv)
 	struct hl_lid *lids[2] = { NULL, NULL };
 	float *dense[2] = { NULL, NULL };
 	struct hl_glare *g = NULL;
-	struct hl_glare_result res[HL_SCN_MAX_ACTORS];
+	struct hl_glare_result res[HL_SCN_MAX_ACTORS], *all = NULL;
 
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
@@ -321,6 +306,9 @@ int hl_cmd_glare(int argc, char **argv)
 		case OPT_REGS:
 			snprintf(dir, sizeof(dir), "%s", optarg);
 			break;
+		case OPT_PLOT:
+			plot = optarg;
+			break;
 		case 'h':
 			usage(stdout);
 			return HL_EXIT_OK;
@@ -364,6 +352,14 @@ int hl_cmd_glare(int argc, char **argv)
 		       "kind", "role", "dist_m", "I_left_cd", "I_right_cd", "I_half_cd", "E_lx",
 		       "limit_cd", "pass");
 	n_frames = (int)floor((b - a) / step + 1e-9) + 1;
+	if (plot) {
+		all = calloc((size_t)n_frames * sc->n_actors, sizeof(*all));
+		if (!all && sc->n_actors) {
+			fprintf(stderr, "hdlamp glare: out of memory for %d frames of the plot\n",
+				n_frames);
+			goto out;
+		}
+	}
 	for (int f = 0; f < n_frames; f++) {
 		const double t = a + f * step;
 
@@ -374,12 +370,27 @@ int hl_cmd_glare(int argc, char **argv)
 			else
 				print_row(sc, &res[i]);
 		}
+		if (all)
+			memcpy(all + (size_t)f * sc->n_actors, res, sizeof(*res) * sc->n_actors);
+	}
+	if (plot) {
+		char title[HL_SCN_TEXT_MAX + 128];
+
+		snprintf(title, sizeof(title), "%s  %s", sc->title, reg->id);
+		c = sc->n_actors ? hl_glare_plot_png(sc, all, n_frames, title, plot) : -EINVAL;
+		if (c < 0) {
+			fprintf(stderr, "hdlamp glare: --plot '%s': %s\n", plot,
+				c == -EINVAL ? "the scenario has no road users to plot" :
+					       strerror(-c));
+			goto out;
+		}
 	}
 	if (!as_json)
 		printf("\n%s: %d road users, %d frames, %d over the limit: %s\n", reg->id,
 		       sc->n_actors, n_frames, n_fail, n_fail ? "FAIL" : "PASS");
 	rc = n_fail ? HL_EXIT_FAIL : HL_EXIT_OK;
 out:
+	free(all);
 	hl_glare_free(g);
 	for (int k = 0; k < 2; k++) {
 		free(dense[k]);

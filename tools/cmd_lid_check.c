@@ -12,6 +12,7 @@
 #include "lamp/verdict.h"
 #include "render/verdict_plot.h"
 #include "tools/commands.h"
+#include "tools/json_out.h"
 
 static void usage(FILE *f)
 {
@@ -123,40 +124,18 @@ static void table(const struct hl_regulation *reg, const struct hl_verdict_optio
 	printf("\nverdict: %s\n", pass ? "PASS" : "FAIL");
 }
 
-static void json_num(double x)
-{
-	if (isfinite(x))
-		printf("%.10g", x);
-	else
-		printf("null");
-}
-
-static void json_str(const char *s)
-{
-	putchar('"');
-	for (; *s; s++) {
-		if (*s == '"' || *s == '\\')
-			printf("\\%c", *s);
-		else if ((unsigned char)*s < 0x20)
-			printf("\\u%04x", *s);
-		else
-			putchar(*s);
-	}
-	putchar('"');
-}
-
 static void json_pt(const struct hl_verdict_options *o, const double p[2])
 {
 	printf("[");
 	if (fabs(p[0]) > 1e8)
 		printf("%s", (p[0] < 0) != (o->traffic == HL_TRAFFIC_LEFT) ? "\"L\"" : "\"R\"");
 	else
-		json_num(o->traffic == HL_TRAFFIC_LEFT ? -p[0] : p[0]);
+		hl_tool_json_num(stdout, o->traffic == HL_TRAFFIC_LEFT ? -p[0] : p[0]);
 	printf(", ");
 	if (fabs(p[1]) > 1e8)
 		printf("%s", p[1] < 0 ? "\"D\"" : "\"U\"");
 	else
-		json_num(p[1]);
+		hl_tool_json_num(stdout, p[1]);
 	printf("]");
 }
 
@@ -164,20 +143,20 @@ static void json(const struct hl_regulation *reg, const struct hl_verdict_option
 		 const struct hl_cutoff *cut, const struct hl_req_result *res, bool pass)
 {
 	printf("{\"regulation\": ");
-	json_str(reg->id);
+	hl_tool_json_str(stdout, reg->id);
 	printf(", \"traffic\": \"%s\", \"aim\": {\"h_deg\": ",
 	       o->traffic == HL_TRAFFIC_LEFT ? "left" : "right");
-	json_num(o->aim_h_deg);
+	hl_tool_json_num(stdout, o->aim_h_deg);
 	printf(", \"v_deg\": ");
-	json_num(o->aim_v_deg);
+	hl_tool_json_num(stdout, o->aim_v_deg);
 	printf("}");
 	if (cut) {
 		printf(", \"cutoff\": {\"v_deg\": ");
-		json_num(cut->v_deg);
+		hl_tool_json_num(stdout, cut->v_deg);
 		printf(", \"g\": ");
-		json_num(cut->g);
+		hl_tool_json_num(stdout, cut->g);
 		printf(", \"linearity_deg\": ");
-		json_num(cut->linearity_deg);
+		hl_tool_json_num(stdout, cut->linearity_deg);
 		printf(", \"sharp_ok\": %s, \"linear_ok\": %s}", cut->sharp_ok ? "true" : "false",
 		       cut->linear_ok ? "true" : "false");
 	}
@@ -187,13 +166,14 @@ static void json(const struct hl_regulation *reg, const struct hl_verdict_option
 		const struct hl_req_result *r = &res[i];
 
 		printf("%s\n  {\"id\": ", i ? "," : "");
-		json_str(q->id);
+		hl_tool_json_str(stdout, q->id);
 		printf(", \"kind\": \"%s\"", hl_req_kind_name(q->kind));
 		if (q->kind == HL_REQ_POINT) {
 			printf(", \"h_deg\": ");
-			json_num(o->traffic == HL_TRAFFIC_LEFT ? -q->pts[0][0] : q->pts[0][0]);
+			hl_tool_json_num(stdout, o->traffic == HL_TRAFFIC_LEFT ? -q->pts[0][0] :
+										 q->pts[0][0]);
 			printf(", \"v_deg\": ");
-			json_num(q->pts[0][1]);
+			hl_tool_json_num(stdout, q->pts[0][1]);
 		} else if (q->kind != HL_REQ_IMAX) {
 			printf(", \"%s\": [", q->kind == HL_REQ_SEGMENT ? "line_deg" :
 					      q->kind == HL_REQ_ZONE	? "polygon_deg" :
@@ -206,18 +186,18 @@ static void json(const struct hl_regulation *reg, const struct hl_verdict_option
 		}
 		if (q->kind == HL_REQ_SEGMENT || q->kind == HL_REQ_ZONE || q->kind == HL_REQ_IMAX) {
 			printf(", \"at_h_deg\": ");
-			json_num(r->at_h_deg);
+			hl_tool_json_num(stdout, r->at_h_deg);
 			printf(", \"at_v_deg\": ");
-			json_num(r->at_v_deg);
+			hl_tool_json_num(stdout, r->at_v_deg);
 		}
 		printf(", \"value_cd\": ");
-		json_num(r->value_cd);
+		hl_tool_json_num(stdout, r->value_cd);
 		printf(", \"min_cd\": ");
-		json_num(r->min_cd);
+		hl_tool_json_num(stdout, r->min_cd);
 		printf(", \"max_cd\": ");
-		json_num(r->max_cd);
+		hl_tool_json_num(stdout, r->max_cd);
 		printf(", \"margin\": ");
-		json_num(r->margin);
+		hl_tool_json_num(stdout, r->margin);
 		if (r->n_outside)
 			printf(", \"positions_outside\": %d", r->n_outside);
 		printf(", \"pass\": %s}", r->pass ? "true" : "false");

@@ -11,6 +11,7 @@ import re
 
 import numpy as np
 
+from pngread import pixel, read_png
 from proc import run
 
 REGS = os.path.join(os.environ.get("HL_SOURCE_DIR", "."), "regulations")
@@ -189,3 +190,71 @@ def test_table_and_usage(hdlamp, hd84, tmp_path):
     r = run(hdlamp, "glare", "--scenario", scn, *lids, "--regulation",
             "unece-r149-01-passing-c", ok=False)
     assert r.returncode == 1 and "half the pair" in r.stderr
+
+
+FAIL_RGB = (255, 50, 50)
+PASS_RGB = (60, 230, 90)
+NONE_RGB = (95, 95, 95)
+
+
+def tracks(img):
+    """The status tracks under the panels: bands of rows mostly in the track colours, top down,
+    each as (first row, the colours of its middle row)."""
+    w, h, _, _ = img
+    bands, prev = [], False
+    for y in range(h):
+        row = [pixel(img, x, y) for x in range(w)]
+        is_track = sum(p in (FAIL_RGB, PASS_RGB, NONE_RGB) for p in row) > w // 2
+        if is_track and not prev:
+            bands.append(y)
+        prev = is_track
+    return [[pixel(img, x, y + 4) for x in range(w)] for y in bands]
+
+
+def test_plot_marks_the_failing_stretch(hdlamp, hd84, tmp_path):
+    """An oncoming car passes the standing ego under the plain high beam: over the limit while it
+    comes, under it once the eye is behind the lamps; a pedestrian at the roadside has no limit.
+    The PNG's tracks hold the failure colour exactly over the failing frames' stretch."""
+    scn = scenario(tmp_path, [
+        {"id": "passer", "kind": "car", "role": "oncoming",
+         "path": {"lane": 2, "start_s_m": 100, "speed_mps": 20}},
+        {"id": "walker", "kind": "pedestrian", "role": "roadside",
+         "path": {"lane": 1, "offset_m": -2.5, "start_s_m": 30, "speed_mps": 0}}])
+    png = tmp_path / "glare.png"
+    code, rows = glare(hdlamp, hd84, scn, "high", "--frames", "0:8:0.25", "--plot", png)
+    assert code == 1
+    passer = [r for r in rows if r["id"] == "passer"]
+    fails = [not r["pass"] for r in passer]
+    k = fails.index(False)  # the first frame under the limit
+    assert 0 < k < len(fails) and not any(fails[k:]) and all(fails[:k]), fails
+
+    img = read_png(png)
+    w, h, ch, _ = img
+    assert (w, h, ch) == (1000, 572 + 14 * 2, 3)
+    assert len({pixel(img, x, y) for y in range(h) for x in range(w)}) >= 10  # not uniform
+
+    track_passer, track_walker = tracks(img)
+    cols = [x for x, p in enumerate(track_passer) if p in (FAIL_RGB, PASS_RGB)]
+    x0, x1 = cols[0], cols[-1]
+    fail_cols = [x for x, p in enumerate(track_passer) if p == FAIL_RGB]
+    assert fail_cols == list(range(x0, fail_cols[-1] + 1))  # one stretch from the start
+    assert all(track_passer[x] == PASS_RGB for x in range(fail_cols[-1] + 1, x1 + 1))
+    # it ends halfway between the last failing frame and the first passing one
+    t_end = 0.5 * (passer[k - 1]["t_s"] + passer[k]["t_s"])
+    want = x0 + t_end / 8.0 * (x1 - x0)
+    assert abs(fail_cols[-1] - want) <= 1.5, (fail_cols[-1], want)
+    # the roadside pedestrian: no limit along the whole axis, never the failure colour
+    assert all(track_walker[x] == NONE_RGB for x in range(x0, x1 + 1))
+    assert FAIL_RGB not in track_walker
+    # the passer's curves are in the failure colour in its stretch only
+    red = [(x, y) for y in range(30, h - 40) for x in range(0, w)
+           if pixel(img, x, y) == FAIL_RGB]
+    assert red and all(x <= fail_cols[-1] + 2 for x, _ in red)
+
+    # the low beam: nobody over the limit, no failure colour anywhere
+    code, _ = glare(hdlamp, hd84, scn, "low", "--frames", "0:8:0.25", "--plot", png)
+    img = read_png(png)
+    assert code == 0 and (img[0], img[1]) == (1000, 600)
+    assert not any(pixel(img, x, y) == FAIL_RGB for y in range(img[1]) for x in range(img[0]))
+    assert [p for p in tracks(img)[0] if p in (FAIL_RGB, PASS_RGB)] == \
+        [PASS_RGB] * (x1 - x0 + 1)

@@ -89,7 +89,8 @@ def test_errors_name_the_file_and_exit_codes(hdlamp, hd84, tmp_path):
     r = run(hdlamp, "lid", "combine", hd84 / "hd84_left.lid.exr", bad, "--lamp", "left",
             "--out", tmp_path / "x.exr", ok=False)
     assert r.returncode == 1
-    assert f"'{bad}':2:15: expected a dimming value: an integer 0..63" in r.stderr
+    assert f"'{bad}':2:15: right[1]: 99 is out of range: expected an integer in [0, 63]" \
+        in r.stderr
     short = tmp_path / "short.json"
     short.write_text('{"left": [1, 2], "right": [1, 2]}')
     r = run(hdlamp, "lid", "plot", hd84 / "hd84_left.lid.exr", short, "--lamp", "left",

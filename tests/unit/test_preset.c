@@ -51,6 +51,7 @@ static void preset_round_trips_through_a_file(void **state)
 	unlink(path);
 	assert_int_equal(hl_preset_read(path, &back, &err), -ENOENT);
 	assert_int_equal(err.line, 0);
+	assert_string_equal(err.msg, "cannot open: No such file or directory");
 }
 
 static void expect_error(const char *text, int line, int column, const char *msg)
@@ -68,23 +69,35 @@ static void expect_error(const char *text, int line, int column, const char *msg
 static void preset_errors_name_line_and_column(void **state)
 {
 	(void)state;
-	expect_error("[1]", 1, 1, "expected '{' starting the preset object");
+	/* syntax errors: jansson's place and words */
+	expect_error("{\"left\" [1]}", 1, 9, "':' expected near '['");
+	expect_error("{\"left\": [1] \"right\": [1]}", 1, 20, "'}' expected near '\"right\"'");
+	expect_error("{\"left\": [1], \"right\": [3]} x", 1, 29, "end of file expected near 'x'");
+	expect_error("{\"left\": [1], \"left\": [2]}", 1, 20,
+		     "duplicate object key near '\"left\"'");
+	expect_error("", 1, 1, "'[' or '{' expected near end of file");
+	/* the preset's shape: at the key or element, its path first */
+	expect_error("[1]", 1, 1, "expected an object, found an array");
 	expect_error("{\"left\": [1, 64], \"right\": [1, 2]}", 1, 14,
-		     "expected a dimming value: an integer 0..63");
-	expect_error("{\"left\": [1, -1]}", 1, 14, "expected a dimming value: an integer 0..63");
-	expect_error("{\"left\": [1,\n 2.5]}", 2, 3, "expected ',' or ']' after a dimming value");
+		     "left[1]: 64 is out of range: expected an integer in [0, 63]");
+	expect_error("{\"left\": [1, -1]}", 1, 14,
+		     "left[1]: -1 is out of range: expected an integer in [0, 63]");
+	expect_error(
+		"{\"left\": [1,\n 2.5]}", 2, 2,
+		"left[1]: expected an integer in [0, 63], found a number with a decimal point");
+	expect_error("{\"left\": [1], \"right\": [\"a\"]}", 1, 25,
+		     "right[0]: expected an integer in [0, 63], found a string");
 	expect_error("{\"left\": [1],\n  \"centre\": [2]}", 2, 3,
-		     "unknown key 'centre'; expected \"left\" or \"right\"");
-	expect_error("{\"left\": [1], \"left\": [2]}", 1, 15, "key 'left' given twice");
-	expect_error("{\"left\": [1]}", 1, 14, "expected both \"left\" and \"right\"");
-	expect_error("{\"left\": [1, 2], \"right\": [3]}", 1, 31,
-		     "expected as many values for \"left\" as for \"right\"");
-	expect_error("{\"left\": [1], \"right\": [3]} x", 1, 29,
-		     "expected the end of the file after '}'");
-	expect_error("{\"left\": []}", 1, 11, "expected at least one dimming value");
-	expect_error("{\"left\" [1]}", 1, 9, "expected ':' after the key");
-	expect_error("{\"left\": [1] \"right\": [1]}", 1, 14,
-		     "expected ',' or '}' after a lamp's list");
+		     "centre: unknown key 'centre'; expected one of: left, right");
+	expect_error("{\"left\": [1]}", 1, 1,
+		     "right: missing: expected both \"left\" and \"right\", each a list of dimming "
+		     "values");
+	expect_error("{\"left\": [1, 2], \"right\": [3]}", 1, 18,
+		     "right: has 1 dimming values; expected as many as \"left\" (2)");
+	expect_error("{\"left\": []}", 1, 2,
+		     "left: expected a list of 1 to 4096 dimming values, found an empty list");
+	expect_error("{\"left\": {}, \"right\": [1]}", 1, 2,
+		     "left: expected a list of 1 to 4096 dimming values, found an object");
 }
 
 int main(void)

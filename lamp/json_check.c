@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Strict checks of JSON with key paths, lines and columns (render/json_check.h). */
-#include "render/json_check.h"
+/* Strict checks of JSON with key paths, lines and columns (lamp/json_check.h). */
+#include "lamp/json_check.h"
 
 #include <errno.h>
 #include <jansson.h>
@@ -350,6 +350,39 @@ int hl_json_fail(const struct hl_json_ctx *c, const char *path, const char *fmt,
 	return -EBADMSG;
 }
 
+int hl_json_parse(const char *text, const char *name, struct json_t **ret_root,
+		  struct hl_json_loc **ret_loc, struct hl_json_error *err)
+{
+	struct hl_json_loc *loc;
+	json_error_t jerr;
+	json_t *root;
+	int rc;
+
+	if (err) {
+		memset(err, 0, sizeof(*err));
+		snprintf(err->file, sizeof(err->file), "%s", name);
+	}
+	root = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
+	if (!root) {
+		if (err) { /* jansson's place, at least line 1, column 1 */
+			err->line = jerr.line > 0 ? jerr.line : 1;
+			err->column = jerr.column > 0 ? jerr.column : 1;
+			snprintf(err->msg, sizeof(err->msg), "%s", jerr.text);
+		}
+		return -EBADMSG;
+	}
+	rc = hl_json_loc_new(text, &loc);
+	if (rc < 0) {
+		if (err)
+			snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
+		json_decref(root);
+		return rc;
+	}
+	*ret_root = root;
+	*ret_loc = loc;
+	return 0;
+}
+
 const char *hl_json_type_name(const struct json_t *j)
 {
 	switch (json_typeof(j)) {
@@ -449,6 +482,21 @@ int hl_json_get_number(const struct hl_json_ctx *c, const char *path, const stru
 	return hl_json_number(c, sub, j, r, ret);
 }
 
+int hl_json_int(const struct hl_json_ctx *c, const char *path, const struct json_t *j, int lo,
+		int hi, int *ret)
+{
+	if (!json_is_integer(j))
+		return hl_json_fail(c, path, "expected an integer in [%d, %d], found %s", lo, hi,
+				    json_is_real(j) ? "a number with a decimal point" :
+						      hl_json_type_name(j));
+	if (json_integer_value(j) < lo || json_integer_value(j) > hi)
+		return hl_json_fail(c, path,
+				    "%lld is out of range: expected an integer in [%d, %d]",
+				    (long long)json_integer_value(j), lo, hi);
+	*ret = (int)json_integer_value(j);
+	return 0;
+}
+
 int hl_json_get_int(const struct hl_json_ctx *c, const char *path, const struct json_t *obj,
 		    const char *key, bool required, int lo, int hi, int *ret)
 {
@@ -462,15 +510,7 @@ int hl_json_get_int(const struct hl_json_ctx *c, const char *path, const struct 
 					    hi);
 		return 0;
 	}
-	if (!json_is_integer(j))
-		return hl_json_fail(c, sub, "expected an integer in [%d, %d], found %s", lo, hi,
-				    json_is_real(j) ? "a number with a decimal point" :
-						      hl_json_type_name(j));
-	if (json_integer_value(j) < lo || json_integer_value(j) > hi)
-		return hl_json_fail(c, sub, "%lld is out of range: expected an integer in [%d, %d]",
-				    (long long)json_integer_value(j), lo, hi);
-	*ret = (int)json_integer_value(j);
-	return 0;
+	return hl_json_int(c, sub, j, lo, hi, ret);
 }
 
 /* obj.key as one of names (NULL-terminated); its index into *ret. */

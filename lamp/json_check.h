@@ -9,8 +9,8 @@
  * Thread-safety: a location index is built by one thread and read-only afterwards; the checks
  * write only the error they are given.
  */
-#ifndef HL_RENDER_JSON_CHECK_H
-#define HL_RENDER_JSON_CHECK_H
+#ifndef HL_LAMP_JSON_CHECK_H
+#define HL_LAMP_JSON_CHECK_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -49,6 +49,15 @@ void hl_json_loc_free(struct hl_json_loc *loc);
 void hl_json_loc_find(const struct hl_json_loc *loc, const char *path, int *ret_line,
 		      int *ret_column);
 
+/*
+ * Parses text (the contents of the file name) with jansson, duplicate keys refused, and indexes
+ * it. *ret_root (json_decref() it) and *ret_loc (hl_json_loc_free() it) are the caller's; both
+ * untouched on failure. err (may be NULL) is reset to name and, on a syntax error, filled with
+ * jansson's line, column and text. 0, -EBADMSG, -ENOMEM.
+ */
+int hl_json_parse(const char *text, const char *name, struct json_t **ret_root,
+		  struct hl_json_loc **ret_loc, struct hl_json_error *err);
+
 /* What the checks need to say where a fault is. */
 struct hl_json_ctx {
 	const char *name; /* the file */
@@ -85,6 +94,9 @@ int hl_json_number(const struct hl_json_ctx *c, const char *path, const struct j
 		   const struct hl_json_range *r, double *ret);
 int hl_json_get_number(const struct hl_json_ctx *c, const char *path, const struct json_t *obj,
 		       const char *key, bool required, const struct hl_json_range *r, double *ret);
+/* j (at path) as an integer in [lo, hi]. */
+int hl_json_int(const struct hl_json_ctx *c, const char *path, const struct json_t *j, int lo,
+		int hi, int *ret);
 int hl_json_get_int(const struct hl_json_ctx *c, const char *path, const struct json_t *obj,
 		    const char *key, bool required, int lo, int hi, int *ret);
 /* One of names (NULL-terminated): its index. */
