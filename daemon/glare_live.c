@@ -218,23 +218,29 @@ void hl_glare_live_metrics(struct hl_glare_live *gl, const struct hl_frame *f, s
 	const struct hl_scenario *sc = gl->sc;
 	const int n = f ? (sc->n_actors < f->hdr.n_actors ? sc->n_actors : f->hdr.n_actors) : 0;
 	struct hl_glare_live_counts c;
+	int n_limits = 0;
 
 	hl_glare_live_counts(gl, &c);
-	hl_prom_family(p, "hdlamp_scene_time_seconds", HL_PROM_GAUGE,
-		       "Scenario time of the newest frame (s).");
-	hl_prom_gauge(p, "hdlamp_scene_time_seconds", NULL, f ? f->hdr.scene_t_s : 0.0);
 	hl_prom_family(p, "hdlamp_glare_frames_total", HL_PROM_COUNTER,
 		       "Frames whose glare at the road users' eyes was evaluated.");
 	hl_prom_counter(p, "hdlamp_glare_frames_total", NULL, c.frames);
 	hl_prom_family(p, "hdlamp_glare_history_overwritten_total", HL_PROM_COUNTER,
 		       "Frames the bounded /glare.json history dropped to make room.");
 	hl_prom_counter(p, "hdlamp_glare_history_overwritten_total", NULL, c.history_overwritten);
-	hl_prom_family(p, "hdlamp_glare_fail_frames_total", HL_PROM_COUNTER,
-		       "Frames a road user's glare was over its limit.");
+	if (sc->n_actors)
+		hl_prom_family(p, "hdlamp_glare_fail_frames_total", HL_PROM_COUNTER,
+			       "Frames a road user's glare was over its limit.");
 	for (int i = 0; i < sc->n_actors; i++)
 		hl_prom_counter(p, "hdlamp_glare_fail_frames_total",
 				(const char *const[]){ "actor", sc->actor[i].id, NULL },
 				c.fail_frames[i]);
+	if (!f)
+		return; /* no frame yet: no per-frame samples, and no family without samples */
+	hl_prom_family(p, "hdlamp_scene_time_seconds", HL_PROM_GAUGE,
+		       "Scenario time of the newest frame (s).");
+	hl_prom_gauge(p, "hdlamp_scene_time_seconds", NULL, f->hdr.scene_t_s);
+	if (!n)
+		return;
 	hl_prom_family(p, "hdlamp_glare_lux", HL_PROM_GAUGE,
 		       "Illuminance at the road user's eye, both lamps, newest frame (lux).");
 	for (int i = 0; i < n; i++)
@@ -248,9 +254,12 @@ void hl_glare_live_metrics(struct hl_glare_live *gl, const struct hl_frame *f, s
 		hl_prom_gauge(p, "hdlamp_glare_cd",
 			      (const char *const[]){ "actor", sc->actor[i].id, NULL },
 			      f->glare[i].pair_half_cd);
-	hl_prom_family(p, "hdlamp_glare_limit_cd", HL_PROM_GAUGE,
-		       "The glare limit that applies to the road user now (cd, half the pair's "
-		       "sum); none for a class without one.");
+	for (int i = 0; i < n; i++)
+		n_limits += isfinite(f->glare[i].limit.max_cd);
+	if (n_limits)
+		hl_prom_family(p, "hdlamp_glare_limit_cd", HL_PROM_GAUGE,
+			       "The glare limit that applies to the road user now (cd, half the "
+			       "pair's sum); none for a class without one.");
 	for (int i = 0; i < n; i++)
 		if (isfinite(f->glare[i].limit.max_cd))
 			hl_prom_gauge(p, "hdlamp_glare_limit_cd",

@@ -243,8 +243,9 @@ static void pose_metrics(struct hl_pose_input *pi, struct hl_prom *p)
 		hl_prom_counter(p, "hdlamp_pose_messages_total",
 				(const char *const[]){ "result", hl_pose_result_name(r), NULL },
 				c.messages[r]);
-	hl_prom_family(p, "hdlamp_pose_age_seconds", HL_PROM_GAUGE,
-		       "Age of the newest good pose message (s); none before the first.");
+	if (c.have)
+		hl_prom_family(p, "hdlamp_pose_age_seconds", HL_PROM_GAUGE,
+			       "Age of the newest good pose message (s); none before the first.");
 	if (c.have)
 		hl_prom_gauge(p, "hdlamp_pose_age_seconds", NULL,
 			      (double)(hl_clock_monotonic_ns() - c.t_last_ok_ns) / 1e9);
