@@ -630,7 +630,7 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 	const char *why = NULL;
 
 	if (!cfg->interface[0] == !cfg->replay[0])
-		why = "exactly one of can.interface and can.replay is needed (--can IFACE or --replay LOG)";
+		why = "exactly one of can.interface and can.replay is needed";
 	else if ((cfg->replay_fast || cfg->replay_loop) && !cfg->replay[0])
 		why = "can.replay_fast and can.replay_loop need can.replay";
 	else if (cfg->replay_passes && !cfg->replay_loop)

@@ -206,7 +206,11 @@ static int parse_options(int argc, char **argv, struct options *o)
 	if (o->print_config)
 		return 0;
 	if (hl_config_check(&o->cfg, &err) < 0) {
-		fprintf(stderr, "hdlampd: %s\n", err.msg);
+		/* the input's check says how to give one */
+		fprintf(stderr, "hdlampd: %s%s\n", err.msg,
+			strncmp(err.msg, "exactly one", 11) == 0 ?
+				" (--can IFACE or --replay LOG)" :
+				"");
 		return -EINVAL;
 	}
 	/* can.lamps' syntax is checked as it is set: 1..HL_ASM_MAX_LAMPS names */

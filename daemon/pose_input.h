@@ -29,7 +29,7 @@
 #include "render/scenario.h"
 #include "render/world.h"
 
-#define HL_POSE_MAX_DATAGRAM 65536 /* bytes; a longer datagram is counted as too_large */
+#define HL_POSE_MAX_DATAGRAM 16384 /* bytes; a longer datagram is counted as too_large */
 #define HL_POSE_LOGGED 5 /* bad messages logged per reason; the rest only counted */
 
 /* What became of a datagram. */

@@ -130,6 +130,7 @@ static void set_lamp(struct fixture *f, int l, uint64_t seq, uint32_t status, un
 	ls->counter = (uint8_t)(seq % 15);
 	ls->status = status;
 	ls->t_rx_first_ns = (int64_t)(1000 * seq + l);
+	ls->t_complete_ns = (int64_t)(1000 * seq + 500 + l); /* the newest: the one done last */
 	ls->t_complete_mono_ns = (int64_t)(2000 * seq + l);
 	for (int k = 0; k < SOURCES; k++) {
 		const struct hl_source_scale *sc = &f->scale[l][k];
