@@ -581,6 +581,9 @@ static int setup(struct live *lv)
 		rc = setup_verdicts(lv);
 	if (rc == 0 && lv->args->render)
 		rc = setup_scene(lv);
+	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
+		log_msg("scene.scenario '%s': not used with --no-render (no light to judge)%s",
+			lv->cfg.scenario, lv->cfg.pose_listen[0] ? "; pose.listen neither" : "");
 	if (rc == 0)
 		rc = hl_ring_new(lv->args->ring_slots, lv->n_lamps, n_src, &lv->ring);
 	if (rc == 0 && !lv->args->render)
