@@ -231,6 +231,7 @@ static void run_replay(struct hl_can_input *in)
 			/* the log starts again, and so do its alive counters: no fault */
 			pass = st.passes;
 			hl_assembler_restart(in->a);
+			in->snap->t_pass_ns = due_ns; /* the scenario clock starts again */
 		}
 		/* lamps whose timeout falls before this frame go stale at their deadline */
 		while ((d = hl_assembler_next_deadline(in->a)) <= due_ns) {

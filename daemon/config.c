@@ -37,6 +37,8 @@ enum kind {
 	TRAFFIC, /* right | left into traffic_left */
 	PAIR, /* two positive numbers "a,b" into a double[2] (min, max bound each) */
 	MODES, /* MODE:ID+ID,MODE:ID,... (checked against the DBC and the sets at start) */
+	SETID, /* one set id (a file name in the regulations directory) */
+	UDP, /* udp:HOST:PORT as ADDRESS, or empty (off) */
 };
 
 /*
@@ -129,6 +131,18 @@ static const struct key keys[] = {
 	  "illuminance levels (lx) of the road ranges, two, comma separated", NULL },
 	{ "road", "width_at", PAIR, F(road_width_at_m), 1, 300,
 	  "distances (m) at which the width of the first level's area is taken, two", NULL },
+	{ "scene", "scenario", PATH, F(scenario), 0, 0,
+	  "scenario file (docs/scenarios.md): the moving scene's clock, poses and live glare; "
+	  "empty = none",
+	  NULL },
+	{ "scene", "glare_set", SETID, F(glare_set), 0, 0,
+	  "regulation set of the glare limits at the road users' eyes (in verdict.regulations)",
+	  NULL },
+	{ "scene", "glare_history", INT, F(glare_history), 1, 100000,
+	  "frames of per-road-user glare GET /glare.json keeps (3000 = 60 s at 50 Hz)", NULL },
+	{ "pose", "listen", UDP, F(pose_listen), 0, 0,
+	  "udp:HOST:PORT for poses from a driving simulator (needs scene.scenario); empty = off",
+	  NULL },
 	{ "sched", "realtime_priority", INT, F(rt_priority), 0, 99,
 	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers), the frame "
 	  "stream thread one below; 0 = normal scheduling",
@@ -168,6 +182,8 @@ void hl_config_defaults(struct hl_config *c)
 	c->road_levels_lx[1] = 3.0;
 	c->road_width_at_m[0] = 25.0;
 	c->road_width_at_m[1] = 50.0;
+	strcpy(c->glare_set, "unece-r149-01-adb-glare");
+	c->glare_history = 3000;
 }
 
 /* A set id is a file name in the regulations directory: letters, digits, '.', '_', '+', '-'. */
@@ -516,6 +532,26 @@ static int set_value(struct hl_config *cfg, const struct key *k, const char *val
 			return bad(err, origin, line, k, "too long (at most %d bytes)",
 				   HL_CONFIG_PATH - 1);
 		return 0;
+	case SETID:
+		if (!valid_set_id(value, strlen(value)))
+			return bad(err, origin, line, k,
+				   "'%s': expected a set id (letters, digits, . _ + -, at most %d "
+				   "characters)",
+				   value, HL_CONFIG_SET_ID - 1);
+		strcpy(at, value);
+		return 0;
+	case UDP:
+		if (*value && strncmp(value, "udp:", 4) != 0)
+			return bad(
+				err, origin, line, k,
+				"'%s': expected udp:HOST:PORT (e.g. udp:127.0.0.1:5700), or empty "
+				"for off",
+				value);
+		if (check_address(*value ? value + 4 : value, what, sizeof(what)) < 0 ||
+		    (*value && !value[4]) || copy_string(at, HL_CONFIG_NAME, value) < 0)
+			return bad(err, origin, line, k, "%s",
+				   *value && !value[4] ? "expected udp:HOST:PORT" : what);
+		return 0;
 	case TRAFFIC:
 		if (strcmp(value, "right") != 0 && strcmp(value, "left") != 0)
 			return bad(err, origin, line, k, "'%s': expected right or left", value);
@@ -601,6 +637,8 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "can.replay_passes needs can.replay_loop";
 	else if (cfg->replay_loop && strcmp(cfg->replay, "-") == 0)
 		why = "can.replay_loop needs a file: standard input cannot be replayed again";
+	else if (cfg->pose_listen[0] && !cfg->scenario[0])
+		why = "pose.listen needs scene.scenario: the poses move its road users";
 	if (why && err)
 		snprintf(err->msg, sizeof(err->msg), "%s", why);
 	return why ? -EINVAL : 0;
@@ -671,6 +709,12 @@ int hl_config_check_files(const struct hl_config *cfg, bool render, struct hl_co
 	rc = check_path(cfg, F(dbc), cfg->dbc, false, "a DBC file", err);
 	if (rc < 0 || !render)
 		return rc;
+	if (cfg->scenario[0]) {
+		rc = check_path(cfg, F(scenario), cfg->scenario, false,
+				"a scenario file (docs/scenarios.md)", err);
+		if (rc < 0)
+			return rc;
+	}
 	for (const char *c = cfg->lamps; *c; c++)
 		n_lamps += *c == ',';
 	if (n_lamps > 2) {
@@ -730,6 +774,8 @@ static void print_value(const struct hl_config *cfg, const struct key *k, FILE *
 	case IFACE:
 	case LAMPS:
 	case MODES:
+	case SETID:
+	case UDP:
 		fprintf(f, "%s\n", at);
 		break;
 	case BOOL:

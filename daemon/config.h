@@ -88,6 +88,12 @@ struct hl_config {
 	/* [road] */
 	double road_levels_lx[HL_CONFIG_ROAD_LEVELS]; /* illuminance levels of the ranges */
 	double road_width_at_m[HL_CONFIG_ROAD_WIDTHS]; /* where the width is taken */
+	/* [scene] */
+	char scenario[HL_CONFIG_PATH]; /* scenario file (render/scenario.h), or "" */
+	char glare_set[HL_CONFIG_SET_ID]; /* the regulation set of the live glare limits */
+	int glare_history; /* frames /glare.json keeps */
+	/* [pose] */
+	char pose_listen[HL_CONFIG_NAME]; /* udp:HOST:PORT of the pose input, or "" */
 	/* [sched] */
 	int rt_priority; /* SCHED_FIFO of the CAN and render threads (stream: one below); 0: off */
 	/* where each key of config.c's table was last set, by its index there */

@@ -6,13 +6,16 @@
 #ifndef HL_DAEMON_FRAME_H
 #define HL_DAEMON_FRAME_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "lamp/verdict.h"
+#include "render/glare.h"
 #include "render/headlight.h"
 
 #define HL_FRAME_MAGIC 0x524c4448u /* "HDLR" read as little-endian bytes */
-#define HL_FRAME_VERSION 2 /* 2: verdict set masks and road KPIs, 192 bytes */
+/* 2: verdict set masks and road KPIs, 192 bytes; 3: the scenario's time and glare */
+#define HL_FRAME_VERSION 3
 #define HL_FRAME_HEADER_SIZE 192
 /* lamps a frame shows: fixed by the wire header, and what the renderer lights */
 #define HL_FRAME_MAX_LAMPS 2
@@ -23,6 +26,14 @@ _Static_assert(HL_FRAME_MAX_LAMPS == HL_HEADLIGHT_MAX_LAMPS,
 enum hl_pixel_format {
 	HL_PIXEL_RGB8 = 1, /* display or lux false colour: 3 bytes per pixel */
 	HL_PIXEL_RGBA16F = 2, /* hdr: linear luminance cd/m², half floats */
+};
+
+/* Where a frame's scenario time came from (header scene_source, docs/daemon.md). */
+enum hl_scene_source {
+	HL_SCENE_NONE = 0, /* no scenario */
+	HL_SCENE_CLOCK = 1, /* CLOCK_MONOTONIC since the daemon started (a live bus) */
+	HL_SCENE_LOG = 2, /* the replayed log's time of the newest cycle in its pass */
+	HL_SCENE_POSE = 3, /* the newest message of the pose input */
 };
 
 /* Frame flags: per lamp l, bit 2l = stale, bit 2l + 1 = fail-safe active. */
@@ -62,11 +73,21 @@ struct hl_frame_header {
 	float centre_range_m[2]; /* along the lane centre, per level */
 	float edge_range_m[2]; /* along the right road edge, per level */
 	float width_m[2]; /* of the first level's area, per distance */
-	uint8_t reserved[36];
+	/* v3, the scenario (zeros without one): bit i = road user i over its glare limit */
+	uint32_t glare_failed;
+	float eye_lux_max; /* the highest illuminance at a road user's eye, lux */
+	uint8_t n_actors; /* the scenario's road users, 0..16 */
+	uint8_t scene_source; /* enum hl_scene_source */
+	uint8_t reserved2[2];
+	double scene_t_s; /* the frame's scenario time, s */
+	uint8_t reserved[16];
 };
 
 _Static_assert(sizeof(struct hl_frame_header) == HL_FRAME_HEADER_SIZE,
 	       "the wire header is HL_FRAME_HEADER_SIZE bytes");
+_Static_assert(offsetof(struct hl_frame_header, glare_failed) == 156 &&
+		       offsetof(struct hl_frame_header, scene_t_s) == 168,
+	       "the v3 fields sit where docs/daemon.md says");
 
 /* A frame in memory: the header, its pixels, and what captures need. */
 struct hl_frame {
@@ -81,6 +102,9 @@ struct hl_frame {
 	struct hl_req_result *results;
 	int n_results;
 	int64_t beam_mode; /* the HdlBeamMode value the sets were chosen by, -1: none */
+	/* with a scenario: each road user's glare at this frame (hdr.n_actors of them) */
+	struct hl_glare_result glare[HL_SCN_MAX_ACTORS];
+	int64_t t_pose_rx_ns; /* scene_source pose: when that message arrived (CLOCK_MONOTONIC) */
 };
 
 #endif

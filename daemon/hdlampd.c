@@ -47,6 +47,11 @@ static void usage(FILE *f)
 		"                     --set dbc.strict=true refuses them (docs/dbc-compat.md)\n"
 		"  --lamps A,B        = can.lamps (default left,right)\n"
 		"  --timeout-ms N     = can.timeout_ms (default 100)\n"
+		"  --scenario FILE    = scene.scenario: a scenario (docs/scenarios.md); its clock runs\n"
+		"                     on the replayed log's time (or the monotonic clock live), and\n"
+		"                     every frame reports the glare at its road users' eyes\n"
+		"  --pose udp:H:P     = pose.listen: poses from a driving simulator, one JSON object\n"
+		"                     per datagram (needs --scenario)\n"
 		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
 		"  --no-render        decode only: print to stdout instead of rendering\n"
 		"  --print-cycles     with --no-render: one JSON line per complete lamp cycle\n"
@@ -90,6 +95,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "lamps", required_argument, NULL, 'L' },
 		{ "timeout-ms", required_argument, NULL, 't' },
 		{ "ring-slots", required_argument, NULL, 's' },
+		{ "scenario", required_argument, NULL, 'A' },
+		{ "pose", required_argument, NULL, 'O' },
 		{ "no-render", no_argument, NULL, 'n' },
 		{ "print-cycles", no_argument, NULL, 'p' },
 		{ "print-config", no_argument, NULL, 'P' },
@@ -137,6 +144,12 @@ static int parse_options(int argc, char **argv, struct options *o)
 			break;
 		case 't':
 			rc = add_override(o, "can.timeout_ms", optarg, "--timeout-ms", optarg);
+			break;
+		case 'A':
+			rc = add_override(o, "scene.scenario", optarg, "--scenario", optarg);
+			break;
+		case 'O':
+			rc = add_override(o, "pose.listen", optarg, "--pose", optarg);
 			break;
 		case 's':
 			v = strtol(optarg, &end, 10);
@@ -193,7 +206,11 @@ static int parse_options(int argc, char **argv, struct options *o)
 	if (o->print_config)
 		return 0;
 	if (hl_config_check(&o->cfg, &err) < 0) {
-		fprintf(stderr, "hdlampd: %s (--can IFACE or --replay LOG)\n", err.msg);
+		/* the input's check says how to give one */
+		fprintf(stderr, "hdlampd: %s%s\n", err.msg,
+			strncmp(err.msg, "exactly one", 11) == 0 ?
+				" (--can IFACE or --replay LOG)" :
+				"");
 		return -EINVAL;
 	}
 	/* can.lamps' syntax is checked as it is set: 1..HL_ASM_MAX_LAMPS names */

@@ -297,6 +297,11 @@ static enum MHD_Result get_metrics(struct hl_http *h, struct MHD_Connection *c)
 	return get_text(h, c, h->src.metrics, "text/plain; version=0.0.4; charset=utf-8");
 }
 
+static enum MHD_Result get_glare(struct hl_http *h, struct MHD_Connection *c)
+{
+	return get_text(h, c, h->src.glare_json, "application/json");
+}
+
 /* JSON string body of s into out (size >= 6 * strlen + 1 is always enough). */
 static void json_escape(const char *s, char *out)
 {
@@ -610,9 +615,13 @@ struct route {
 };
 
 static const struct route routes[] = {
-	{ "/", false, get_page },	    { "/stream.mjpg", false, get_stream },
-	{ "/frame.png", false, get_png },   { "/frame.exr", false, get_exr },
-	{ "/status", false, get_status },   { "/metrics", false, get_metrics },
+	{ "/", false, get_page },
+	{ "/stream.mjpg", false, get_stream },
+	{ "/frame.png", false, get_png },
+	{ "/frame.exr", false, get_exr },
+	{ "/status", false, get_status },
+	{ "/metrics", false, get_metrics },
+	{ "/glare.json", false, get_glare },
 	{ "/capture", true, post_capture },
 };
 

@@ -9,6 +9,7 @@
  *   GET /frame.exr    the newest frame's lux image: one FLOAT channel "E", lux
  *   GET /status       application/json from sources->status_json
  *   GET /metrics      Prometheus text (version 0.0.4) from sources->metrics
+ *   GET /glare.json   application/json from sources->glare_json (404 without a scenario)
  *   POST /capture     sources->capture, only when allowed (else 403)
  * HEAD works wherever GET does; another method is 405 (with Allow), another path 404, and a
  * frame route before the first published frame 503.
@@ -71,6 +72,7 @@ struct hl_http_sources {
 	 */
 	int (*status_json)(void *userdata, char *buf, size_t size);
 	int (*metrics)(void *userdata, char *buf, size_t size);
+	int (*glare_json)(void *userdata, char *buf, size_t size); /* the same; NULL: 404 */
 	/*
 	 * Write a capture now: 0 and the directory or file written, NUL-terminated, in path; or
 	 * -errno and why in path (answered as {"error": path}): -EBUSY, -EAGAIN, -ESHUTDOWN 503;

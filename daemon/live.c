@@ -24,10 +24,12 @@
 #include "daemon/clock.h"
 #include "daemon/decode_report.h"
 #include "daemon/frame_pool.h"
+#include "daemon/glare_live.h"
 #include "daemon/gpio.h"
 #include "daemon/http.h"
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
+#include "daemon/pose_input.h"
 #include "daemon/status.h"
 #include "daemon/stream.h"
 #include "daemon/verdicts.h"
@@ -56,6 +58,11 @@ struct live {
 	struct hl_gpio *gpio;
 	struct hl_status *status;
 	struct hl_verdicts *verdicts; /* the regulation sets and road KPIs per frame */
+	/* the moving scene (scene.scenario): its glare per frame, poses from a simulator */
+	struct hl_scenario *sc;
+	struct hl_regulation *glare_reg;
+	struct hl_glare_live *glare;
+	struct hl_pose_input *pose;
 	bool config_error; /* setup failed on the configuration: exit 2 */
 	struct hl_http *http;
 	struct hl_capture_queue *captures; /* the one capture writer */
@@ -162,6 +169,11 @@ static int http_status(void *ud, char *buf, size_t size)
 static int http_metrics(void *ud, char *buf, size_t size)
 {
 	return hl_status_metrics(((struct live *)ud)->status, buf, size);
+}
+
+static int http_glare(void *ud, char *buf, size_t size)
+{
+	return hl_glare_live_json(((struct live *)ud)->glare, buf, size);
 }
 
 static int http_capture(void *ud, char *path, size_t size)
@@ -309,6 +321,73 @@ static int setup_verdicts(struct live *lv)
 }
 
 /*
+ * The scenario (scene.scenario), the glare plan on the lamps' grids under scene.glare_set, and
+ * the pose input (pose.listen). A bad file or set is a configuration error (exit 2).
+ */
+static int setup_scene(struct live *lv)
+{
+	const struct hl_lid_grid *grids[2];
+	struct hl_regulation_error rerr = { 0, 0, "" };
+	struct hl_json_error jerr;
+	char msg[1024];
+	int rc;
+
+	if (!lv->cfg.scenario[0])
+		return 0;
+	lv->config_error = true; /* until it is all set up */
+	rc = hl_scenario_read(lv->cfg.scenario, &lv->sc, &jerr);
+	if (rc < 0) {
+		hl_json_error_format(&jerr, msg, sizeof(msg));
+		log_msg("scene.scenario: %s", msg);
+		return rc;
+	}
+	if (lv->n_lamps != 2) {
+		log_msg("scene.scenario '%s': the glare at the road users' eyes takes two lamps; "
+			"can.lamps has %d",
+			lv->cfg.scenario, lv->n_lamps);
+		return -EINVAL;
+	}
+	rc = hl_regulation_load(lv->cfg.regulations, lv->cfg.glare_set, &lv->glare_reg, &rerr);
+	if (rc < 0) {
+		if (rc == -ENOENT)
+			log_msg("scene.glare_set: no set '%s' in '%s' (no file '%s/%s.json'; "
+				"verdict.regulations names the directory)",
+				lv->cfg.glare_set, lv->cfg.regulations, lv->cfg.regulations,
+				lv->cfg.glare_set);
+		else
+			log_msg("scene.glare_set '%s': %s", lv->cfg.glare_set,
+				rerr.msg[0] ? rerr.msg : strerror(-rc));
+		return rc;
+	}
+	grids[0] = hl_lid_grid(lv->lids[0]);
+	grids[1] = hl_lid_grid(lv->lids[1]);
+	rc = hl_glare_live_new(lv->sc, lv->glare_reg, grids, lv->cfg.glare_history, &lv->glare);
+	if (rc < 0) {
+		log_msg("scene.glare_set '%s': %s", lv->cfg.glare_set,
+			rc == -EINVAL ? "not a glare table: expected a set on half the pair's sum "
+					"with \"Oncoming D m\" or \"Preceding D m\" rows" :
+					strerror(-rc));
+		return rc;
+	}
+	log_msg("scene: '%s' (%s): %d road users, %.1f s, its clock on %s; glare limits from '%s'",
+		lv->cfg.scenario, lv->sc->title, lv->sc->n_actors, lv->sc->duration_s,
+		lv->cfg.replay[0] ? "the log's time" : "CLOCK_MONOTONIC", lv->glare_reg->id);
+	if (lv->cfg.pose_listen[0]) {
+		rc = hl_pose_input_new(lv->cfg.pose_listen, lv->sc, stderr, &lv->pose, msg,
+				       sizeof(msg));
+		if (rc < 0) {
+			log_msg("%s", msg);
+			lv->config_error = rc == -EINVAL;
+			return rc;
+		}
+		log_msg("pose input on %s (port %u)", lv->cfg.pose_listen,
+			hl_pose_input_port(lv->pose));
+	}
+	lv->config_error = false;
+	return 0;
+}
+
+/*
  * The test-only fault switch HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=N (docs/daemon.md): the
  * render thread hangs after N frames, so that a test sees the systemd watchdog at work.
  */
@@ -368,6 +447,8 @@ static int setup_renderer(struct live *lv, int n_src)
 				     &hooks, &lv->pipe);
 		if (rc < 0)
 			log_msg("renderer: %s", strerror(-rc));
+		else
+			hl_pipeline_set_scene(lv->pipe, lv->sc, lv->glare, lv->pose);
 	}
 	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
 		free(dims[l]);
@@ -416,6 +497,8 @@ static int setup_outputs(struct live *lv)
 		.pool = lv->pool,
 		.gpio = lv->gpio,
 		.verdicts = lv->verdicts,
+		.glare = lv->glare,
+		.pose = lv->pose,
 	};
 	struct hl_capture_queue_config cq = {
 		.dir = lv->cfg.capture_dir,
@@ -465,6 +548,7 @@ static int setup_outputs(struct live *lv)
 			.status_json = http_status,
 			.metrics = http_metrics,
 			.capture = http_capture,
+			.glare_json = lv->glare ? http_glare : NULL,
 		};
 
 		lv->exr_info.camera = hl_pipeline_camera(lv->pipe);
@@ -497,6 +581,11 @@ static int setup(struct live *lv)
 		rc = load_lids(lv);
 	if (rc == 0 && lv->args->render)
 		rc = setup_verdicts(lv);
+	if (rc == 0 && lv->args->render)
+		rc = setup_scene(lv);
+	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
+		log_msg("scene.scenario '%s': not used with --no-render (no light to judge)%s",
+			lv->cfg.scenario, lv->cfg.pose_listen[0] ? "; pose.listen neither" : "");
 	if (rc == 0)
 		rc = hl_ring_new(lv->args->ring_slots, lv->n_lamps, n_src, &lv->ring);
 	if (rc == 0 && !lv->args->render)
@@ -524,6 +613,11 @@ static int setup(struct live *lv)
 		rc = setup_renderer(lv, n_src);
 		if (rc == 0)
 			rc = setup_outputs(lv);
+		if (rc == 0 && lv->pose) {
+			rc = hl_pose_input_start(lv->pose);
+			if (rc < 0)
+				log_msg("cannot start the pose input: %s", strerror(-rc));
+		}
 		if (rc < 0)
 			return rc;
 	} else {
@@ -556,6 +650,10 @@ static void teardown(struct live *lv)
 	hl_status_free(lv->status);
 	hl_http_free(lv->http); /* after the status that reads its counters */
 	hl_verdicts_free(lv->verdicts); /* after the pipeline and the status that read it */
+	hl_pose_input_free(lv->pose); /* after the pipeline and the status that read them */
+	hl_glare_live_free(lv->glare);
+	hl_regulation_free(lv->glare_reg);
+	hl_scenario_free(lv->sc);
 	hl_can_input_free(lv->in);
 	hl_frame_pool_free(lv->pool);
 	hl_snapshot_free(lv->snap);
@@ -729,6 +827,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		if (lv.captures) /* what was asked for is written and counted */
 			hl_capture_queue_stop(lv.captures);
 		hl_pipeline_stop(lv.pipe);
+		hl_pose_input_stop(lv.pose);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);
 		print_status(lv.status);

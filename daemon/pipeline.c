@@ -15,6 +15,8 @@
 #include <unistd.h>
 
 #include "daemon/clock.h"
+#include "daemon/glare_live.h"
+#include "daemon/pose_input.h"
 #include "daemon/sched.h"
 #include "render/egl.h"
 #include "render/pixel.h"
@@ -45,6 +47,11 @@ struct hl_pipeline {
 	struct hl_frame_pool *pool;
 	const struct hl_verdicts *verdicts; /* NULL: none */
 	struct hl_pipeline_hooks hooks;
+	/* the moving scene (hl_pipeline_set_scene): NULL without a scenario */
+	const struct hl_scenario *sc;
+	struct hl_glare_live *glare;
+	struct hl_pose_input *pose; /* NULL: no pose input */
+	int64_t t_start_ns; /* CLOCK_MONOTONIC at start: a live bus's scenario clock */
 
 	/* live settings, changed by reload under the lock */
 	pthread_mutex_t lock;
@@ -65,6 +72,15 @@ struct hl_pipeline {
 	struct hl_view_lux_opts lux_opts;
 	char describe[256];
 	uint64_t last_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's cycle in the last frame rendered */
+	/*
+	 * THE world state of the frame being rendered (render/world.h): where the ego and every
+	 * road user are and whose lamps are lit. scene_at() fills it at the start of render(),
+	 * before the renderer runs; the glare, the header and /status read it. The renderer is to
+	 * draw this same instant (the moving scene): pass &p->world to it where render() says.
+	 */
+	struct hl_world_state world;
+	enum hl_scene_source world_source;
+	int64_t world_pose_rx_ns; /* world_source pose: when that message arrived */
 
 	uint64_t stall_after_frames; /* test-only fault: hang after this many frames; 0: never */
 	uint64_t catch_up; /* snapshots behind that are still taken in order (CATCH_UP_SNAPSHOTS) */
@@ -370,6 +386,41 @@ static double check(struct hl_pipeline *p, struct hl_frame *f, const struct hl_v
 	return (double)(hl_clock_monotonic_ns() - t0) / 1e6;
 }
 
+/*
+ * The frame's instant into p->world (docs/scenarios.md, "Scenario time in the daemon"): the
+ * newest pose message when the pose input has had one; else the scenario clock: with a replay
+ * the log's time of the newest lamp cycle since the start of its pass (so a recorded drive and
+ * its scenario stay in step, and each --loop pass starts the scenario again), on a live bus
+ * CLOCK_MONOTONIC since the pipeline started. The clock holds at 0 before the start and at
+ * duration_s past the end.
+ */
+static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int newest)
+{
+	double t_s;
+
+	if (!p->sc) {
+		p->world_source = HL_SCENE_NONE;
+		return;
+	}
+	if (p->pose && hl_pose_input_latest(p->pose, &p->world, &p->world_pose_rx_ns)) {
+		p->world_source = HL_SCENE_POSE;
+		return;
+	}
+	if (p->cfg.replay[0]) {
+		const struct hl_lamp_snapshot *ls = &s->lamps[newest];
+
+		t_s = (ls->status & HL_LAMP_VALID) ?
+			      (double)(ls->t_complete_ns - s->t_pass_ns) / 1e9 :
+			      0.0;
+		p->world_source = HL_SCENE_LOG;
+	} else {
+		t_s = (double)(hl_clock_monotonic_ns() - p->t_start_ns) / 1e9;
+		p->world_source = HL_SCENE_CLOCK;
+	}
+	t_s = t_s < 0.0 ? 0.0 : t_s > p->sc->duration_s ? p->sc->duration_s : t_s;
+	hl_world_at(p->sc, t_s, &p->world);
+}
+
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
@@ -383,6 +434,11 @@ static void render(struct hl_pipeline *p)
 	uint32_t evaluated = 0, failed = 0;
 	int newest = 0;
 
+	/* the newest cycle: the one completed last (on the input's clock, which never goes back) */
+	for (int l = 1; l < p->n_lamps; l++)
+		if (s->lamps[l].t_complete_ns > s->lamps[newest].t_complete_ns)
+			newest = l;
+	scene_at(p, s, newest); /* p->world: the instant this frame shows */
 	pthread_mutex_lock(&p->lock);
 	mode = p->failsafe;
 	ev = p->exposure_ev;
@@ -412,13 +468,12 @@ static void render(struct hl_pipeline *p)
 		if (stale)
 			flags |= HL_FRAME_STALE(l) | HL_FRAME_FAILSAFE(l);
 		hl_renderer_set_currents(p->r, l, p->cur);
-		if (s->lamps[l].t_rx_first_ns > s->lamps[newest].t_rx_first_ns)
-			newest = l;
 		if (s->lamps[l].cycle_seq > p->last_seq[l] + 1)
 			p->c.cycles_not_rendered[l] += s->lamps[l].cycle_seq - p->last_seq[l] - 1;
 		p->last_seq[l] = s->lamps[l].cycle_seq;
 	}
 	pthread_mutex_unlock(&p->lock);
+	/* the renderer still draws the configured scene; the moving one is to light p->world */
 	if (f && p->view == HL_VIEW_DISPLAY) {
 		/* tone-mapped band by band while the band's illuminance is in the cache */
 		struct display_job j = { p->gb, ev, f->pixels };
@@ -457,6 +512,19 @@ static void render(struct hl_pipeline *p)
 			f->hdr.cycle_seq[l] = s->lamps[l].cycle_seq;
 			f->hdr.t_lamp_done_ns[l] = s->lamps[l].t_complete_mono_ns;
 			f->hdr.counter[l] = s->lamps[l].counter;
+		}
+		f->hdr.scene_source = HL_SCENE_NONE;
+		f->hdr.n_actors = 0;
+		f->hdr.glare_failed = 0;
+		f->hdr.eye_lux_max = 0.0f;
+		f->hdr.scene_t_s = 0.0;
+		if (p->glare) {
+			const float *dist[2] = { f->dist[0], f->dist[1] };
+
+			/* the pool numbers published frames from 1; this one is next */
+			hl_glare_live_eval(p->glare, &p->world, p->world_source, dist,
+					   p->c.frames + 1, f);
+			f->t_pose_rx_ns = p->world_pose_rx_ns;
 		}
 		if (p->verdicts) {
 			verdict_ms = check(p, f, peaks);
@@ -604,6 +672,14 @@ static void *thread_main(void *arg)
 	return NULL;
 }
 
+void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
+			   struct hl_glare_live *glare, struct hl_pose_input *pose)
+{
+	p->sc = sc;
+	p->glare = glare;
+	p->pose = pose;
+}
+
 void hl_pipeline_debug_stall(struct hl_pipeline *p, uint64_t after_frames)
 {
 	p->stall_after_frames = after_frames;
@@ -614,6 +690,7 @@ int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size)
 	int rc;
 
 	p->start_rc = 1;
+	p->t_start_ns = hl_clock_monotonic_ns();
 	rc = pthread_create(&p->thread, NULL, thread_main, p);
 	if (rc) {
 		snprintf(err, err_size, "cannot start the render thread: %s", strerror(rc));

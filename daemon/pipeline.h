@@ -25,6 +25,7 @@
 #include "daemon/ring.h"
 #include "daemon/verdicts.h"
 #include "lamp/lid.h"
+#include "render/scenario.h"
 #include "render/scene.h"
 
 struct hl_pipeline_hooks {
@@ -75,6 +76,18 @@ int hl_pipeline_new(const struct hl_config *cfg, struct hl_lid *const lids[HL_FR
 		    struct hl_frame_pool *pool, const struct hl_verdicts *verdicts,
 		    const struct hl_pipeline_hooks *hooks, struct hl_pipeline **ret);
 void hl_pipeline_free(struct hl_pipeline *p);
+
+struct hl_glare_live;
+struct hl_pose_input;
+
+/*
+ * Before start: the moving scene. sc (NULL: none) sets each frame's world state (the scenario
+ * clock: the replayed log's time, or CLOCK_MONOTONIC since start live; or pose's newest
+ * message when pose is not NULL and one has come); glare (needs two lamps) evaluates it on
+ * every published frame. All must outlive the pipeline.
+ */
+void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
+			   struct hl_glare_live *glare, struct hl_pose_input *pose);
 
 /*
  * Test-only fault, before start: after after_frames frames the render thread hangs (stops

@@ -52,6 +52,12 @@ struct hl_snapshot {
 	uint64_t seq; /* set by hl_ring_push: 0, 1, 2, ... */
 	int64_t t_push_ns;
 	int64_t t_event_ns; /* when what this snapshot reports happened (the producer's clock) */
+	/*
+	 * A replay: when the log's current pass began on its timeline (the due time of the pass's
+	 * first frame, as t_complete_ns), so a lamp's cycle is t_complete_ns - t_pass_ns into the
+	 * pass (the scenario clock, docs/scenarios.md); 0 for a live bus.
+	 */
+	int64_t t_pass_ns;
 	uint32_t status; /* the producer's global status bits */
 	uint32_t bus; /* the producer's bus state */
 	int32_t link_errno; /* why the input is down, 0 when up */

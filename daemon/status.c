@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "daemon/clock.h"
 #include "daemon/prom.h"
 #include "daemon/sched.h"
 
@@ -214,6 +215,42 @@ static void http_metrics(struct hl_http *h, struct hl_prom *p)
 	hl_prom_gauge(p, "hdlamp_http_mjpeg_clients", NULL, (double)c.mjpeg_clients);
 }
 
+/* The pose input's counters: ,"pose":{...}; the newest pose's age (s) or -1 in *ret_age_s. */
+static void pose_json(struct hl_pose_input *pi, FILE *f, double *ret_age_s)
+{
+	struct hl_pose_counts c;
+
+	hl_pose_input_counts(pi, &c);
+	*ret_age_s = c.have ? (double)(hl_clock_monotonic_ns() - c.t_last_ok_ns) / 1e9 : -1.0;
+	fprintf(f, ",\"pose\":{\"port\":%u,\"messages\":{", hl_pose_input_port(pi));
+	for (int r = 0; r < HL_POSE_N; r++)
+		fprintf(f, "%s\"%s\":%" PRIu64, r ? "," : "", hl_pose_result_name(r),
+			c.messages[r]);
+	fputc('}', f);
+	if (c.have)
+		fprintf(f, ",\"t_s\":%.9g,\"age_s\":%.3f", c.t_s, *ret_age_s);
+	fputc('}', f);
+}
+
+static void pose_metrics(struct hl_pose_input *pi, struct hl_prom *p)
+{
+	struct hl_pose_counts c;
+
+	hl_pose_input_counts(pi, &c);
+	hl_prom_family(p, "hdlamp_pose_messages_total", HL_PROM_COUNTER,
+		       "Pose input datagrams by result.");
+	for (int r = 0; r < HL_POSE_N; r++)
+		hl_prom_counter(p, "hdlamp_pose_messages_total",
+				(const char *const[]){ "result", hl_pose_result_name(r), NULL },
+				c.messages[r]);
+	if (c.have)
+		hl_prom_family(p, "hdlamp_pose_age_seconds", HL_PROM_GAUGE,
+			       "Age of the newest good pose message (s); none before the first.");
+	if (c.have)
+		hl_prom_gauge(p, "hdlamp_pose_age_seconds", NULL,
+			      (double)(hl_clock_monotonic_ns() - c.t_last_ok_ns) / 1e9);
+}
+
 int hl_status_json(struct hl_status *st, char *buf, size_t size)
 {
 	const struct hl_status_sources *s = &st->src;
@@ -277,6 +314,16 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 			v.pc.verdict_ms_last, v.pc.verdict_ms_max);
 		hl_verdicts_json(s->verdicts, fr, v.pc.verdict_frames, v.pc.verdict_failed_frames,
 				 f);
+		hl_frame_pool_release(s->pool, fr);
+	}
+	if (s->glare && s->pool) {
+		/* the newest frame's scene and glare, held while they are written */
+		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);
+		double age_s = -1.0;
+
+		if (s->pose)
+			pose_json(s->pose, f, &age_s);
+		hl_glare_live_status_json(s->glare, fr, age_s, f);
 		hl_frame_pool_release(s->pool, fr);
 	}
 	fputc('}', f);
@@ -370,5 +417,13 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 				    v.pc.verdict_failed_frames, &p);
 		hl_frame_pool_release(s->pool, fr);
 	}
+	if (s->glare && s->pool) {
+		struct hl_frame *fr = hl_frame_pool_get(s->pool, 0, 0);
+
+		hl_glare_live_metrics(s->glare, fr, &p);
+		hl_frame_pool_release(s->pool, fr);
+	}
+	if (s->pose)
+		pose_metrics(s->pose, &p);
 	return hl_prom_end(&p);
 }

@@ -20,9 +20,11 @@
 #include "daemon/capture_queue.h"
 #include "daemon/config.h"
 #include "daemon/frame_pool.h"
+#include "daemon/glare_live.h"
 #include "daemon/gpio.h"
 #include "daemon/http.h"
 #include "daemon/pipeline.h"
+#include "daemon/pose_input.h"
 #include "daemon/ring.h"
 #include "daemon/stream.h"
 #include "daemon/verdicts.h"
@@ -41,6 +43,8 @@ struct hl_status_sources {
 	struct hl_capture_queue *captures;
 	struct hl_http *http; /* its counters: "http" in the JSON, hdlamp_http_* in the metrics */
 	const struct hl_verdicts *verdicts; /* with pipe and pool: the newest frame's verdicts */
+	struct hl_glare_live *glare; /* with pool: the scenario's time and the newest frame's glare */
+	struct hl_pose_input *pose; /* the pose input's counters and the newest pose's age */
 };
 
 struct hl_status;

@@ -10,6 +10,7 @@
 
 #include "lamp/angles.h"
 #include "render/scenario_geom.h"
+#include "render/world.h"
 
 #define DEG (180.0 / M_PI)
 
@@ -146,26 +147,33 @@ void hl_glare_limit(const struct hl_glare *g, enum hl_actor_role role, double di
 int hl_glare_eval(const struct hl_glare *g, double t_s, const float *const dense[2],
 		  struct hl_glare_result *ret)
 {
+	struct hl_world_state w;
+
+	hl_world_at(g->sc, t_s, &w);
+	return hl_glare_eval_world(g, &w, dense, ret);
+}
+
+int hl_glare_eval_world(const struct hl_glare *g, const struct hl_world_state *w,
+			const float *const dense[2], struct hl_glare_result *ret)
+{
 	const struct hl_scenario *sc = g->sc;
 	struct hl_lamp_pose lamp[2];
-	struct hl_body_pose ego;
 	double mid[3], fwd[2];
 	int n_fail = 0;
 
-	hl_scenario_ego_lamps(sc, t_s, lamp);
-	hl_scenario_ego_pose(sc, t_s, &ego);
+	hl_world_ego_lamps(sc, &w->ego, lamp);
 	for (int k = 0; k < 3; k++)
 		mid[k] = 0.5 * (lamp[0].pos_m[k] + lamp[1].pos_m[k]);
-	fwd[0] = cos(ego.heading_rad);
-	fwd[1] = sin(ego.heading_rad);
-	for (int i = 0; i < sc->n_actors; i++) {
+	fwd[0] = cos(w->ego.heading_rad);
+	fwd[1] = sin(w->ego.heading_rad);
+	for (int i = 0; i < sc->n_actors && i < w->n_actors; i++) {
 		struct hl_glare_result *r = &ret[i];
 		double dx, dy, along, right;
 
 		memset(r, 0, sizeof(*r));
 		r->actor = i;
-		r->t_s = t_s;
-		hl_scenario_actor_eye(sc, i, t_s, r->eye_m);
+		r->t_s = w->t_s;
+		hl_world_actor_eye(sc, i, &w->actor[i], r->eye_m);
 		for (int l = 0; l < 2; l++) {
 			double p[3], h, v;
 

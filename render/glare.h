@@ -31,6 +31,7 @@
 #include "lamp/lid.h"
 #include "lamp/regulation.h"
 #include "render/scenario.h"
+#include "render/world.h"
 
 #define HL_GLARE_MAX_ROWS 32 /* limit rows read from one set */
 
@@ -82,5 +83,13 @@ void hl_glare_limit(const struct hl_glare *g, enum hl_actor_role role, double di
  */
 int hl_glare_eval(const struct hl_glare *g, double t_s, const float *const dense[2],
 		  struct hl_glare_result *ret);
+/*
+ * The same for a given world state (render/world.h: from the scenario clock, or poses from a
+ * driving simulator): the ego's lamps and the road users' eyes where w puts them; fills
+ * ret[0 .. min(n_actors, w->n_actors) - 1]. hl_glare_eval(g, t, ...) is this with
+ * hl_world_at(t). Returns how many fail. Allocates nothing.
+ */
+int hl_glare_eval_world(const struct hl_glare *g, const struct hl_world_state *w,
+			const float *const dense[2], struct hl_glare_result *ret);
 
 #endif

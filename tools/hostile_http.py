@@ -29,7 +29,7 @@ import threading
 import time
 import urllib.request
 
-HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6f36x")  # docs/daemon.md, "Frame stream"
+HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6fIfBB2xd16x")  # docs/daemon.md, "Frame stream" (v3)
 LUA = """
 local threads = {}
 function setup(thread) table.insert(threads, thread) end

@@ -2,15 +2,17 @@
 import socket
 import struct
 
-HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6f36x")
+HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6fIfBB2xd16x")
 MAGIC = 0x524C4448
 FIELDS = ("magic", "version", "header_size", "seq", "width", "height", "stride", "pixel_format",
           "payload_size", "flags", "t_cycle_rx_ns", "t_cycle_done_ns", "t_render_start_ns",
           "t_render_done_ns", "t_sent_ns", "cycle_seq_left", "cycle_seq_right", "counter_left",
           "counter_right", "n_lamps", "t_lamp_done_left", "t_lamp_done_right", "n_sets",
           "sets_evaluated", "sets_failed", "centre_range_1_m", "centre_range_2_m",
-          "edge_range_1_m", "edge_range_2_m", "width_1_m", "width_2_m")
-VERSION = 2
+          "edge_range_1_m", "edge_range_2_m", "width_1_m", "width_2_m", "glare_failed",
+          "eye_lux_max", "n_actors", "scene_source", "scene_t_s")
+VERSION = 3
+SCENE_SOURCES = {0: "none", 1: "clock", 2: "log", 3: "pose"}
 assert HEADER.size == 192
 
 

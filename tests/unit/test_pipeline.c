@@ -13,9 +13,12 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
 
+#include "daemon/clock.h"
+#include "daemon/glare_live.h"
 #include "daemon/pipeline.h"
 #include "lamp/model.h"
 
@@ -130,6 +133,7 @@ static void set_lamp(struct fixture *f, int l, uint64_t seq, uint32_t status, un
 	ls->counter = (uint8_t)(seq % 15);
 	ls->status = status;
 	ls->t_rx_first_ns = (int64_t)(1000 * seq + l);
+	ls->t_complete_ns = (int64_t)(1000 * seq + 500 + l); /* the newest: the one done last */
 	ls->t_complete_mono_ns = (int64_t)(2000 * seq + l);
 	for (int k = 0; k < SOURCES; k++) {
 		const struct hl_source_scale *sc = &f->scale[l][k];
@@ -379,6 +383,115 @@ static void pipeline_applies_each_failsafe_mode_to_a_stale_lamp(void **state)
 	assert_int_equal(pc.failsafe_frames[1], 3);
 }
 
+/* A standing ego and an oncoming car at 50 m, a pedestrian beside the road; 10 s long. */
+static const char scene_json[] =
+	"{\"version\": 1, \"title\": \"t\", \"duration_s\": 10,\n"
+	" \"road\": {\"segments\": [{\"kind\": \"straight\", \"length_m\": 400}],\n"
+	"          \"lanes\": {\"count\": 2, \"width_m\": 3.5}},\n"
+	" \"ego\": {\"start_s_m\": 0, \"lane\": 1, \"speed_mps\": 0},\n"
+	" \"actors\": [\n"
+	"  {\"id\": \"car\", \"kind\": \"car\", \"role\": \"oncoming\",\n"
+	"   \"path\": {\"lane\": 2, \"start_s_m\": 150, \"speed_mps\": 10}},\n"
+	"  {\"id\": \"walker\", \"kind\": \"pedestrian\", \"role\": \"roadside\",\n"
+	"   \"path\": {\"waypoints\": [{\"t_s\": 0, \"x_m\": 30, \"y_m\": -5}]}}]}\n";
+
+/*
+ * The scenario clock: with a replay, the newest lamp cycle's time on the log's timeline from
+ * the start of its pass, held at the scenario's end; live, CLOCK_MONOTONIC since the start.
+ * Each frame's glare is the one of that instant's world state.
+ */
+static void pipeline_scene_time_from_the_log_pass_and_the_clock(void **state)
+{
+	struct fixture *f = *state;
+	const struct hl_lid_grid *grids[2] = { hl_lid_grid(f->lids[0]), hl_lid_grid(f->lids[1]) };
+	struct hl_scenario *sc = NULL;
+	struct hl_regulation *reg = NULL;
+	struct hl_regulation_error rerr;
+	struct hl_json_error jerr;
+	struct hl_glare_live *gl = NULL;
+	struct hl_pipeline_counts pc;
+	char dir[1024];
+	const double cases[][2] = { { 5e9, 6.25e9 }, { 5e9, 120e9 }, { 0, 3.5e9 } };
+
+	snprintf(dir, sizeof(dir), "%s/regulations", getenv("HL_SOURCE_DIR"));
+	assert_int_equal(hl_scenario_parse(scene_json, "t.json", &sc, &jerr), 0);
+	assert_int_equal(hl_regulation_load(dir, "unece-r149-01-adb-glare", &reg, &rerr), 0);
+	assert_int_equal(hl_glare_live_new(sc, reg, grids, 16, &gl), 0);
+	scale_hd84(f);
+	for (int live = 0; live < 2; live++) {
+		int64_t t0;
+
+		make(f, HL_FAILSAFE_HOLD, NULL);
+		hl_pipeline_free(f->p); /* again, with the replay configured */
+		if (!live)
+			snprintf(f->cfg.replay, sizeof(f->cfg.replay), "x.log");
+		{
+			const struct hl_source_scale *scales[LAMPS] = { f->scale[0], f->scale[1] };
+
+			assert_int_equal(hl_pipeline_new(&f->cfg, f->lids, LAMPS, scales, NULL,
+							 f->ring, f->pool, NULL, NULL, &f->p),
+					 0);
+		}
+		hl_pipeline_set_scene(f->p, sc, gl, NULL);
+		t0 = hl_clock_monotonic_ns();
+		run(f);
+		for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+			struct hl_frame *fr;
+			struct hl_world_state w;
+			struct hl_glare_result want[HL_SCN_MAX_ACTORS];
+			const float *dist[2];
+			double t;
+
+			set_lamp(f, 0, c + 1, HL_LAMP_VALID, 5);
+			set_lamp(f, 1, c + 1, HL_LAMP_VALID, 7);
+			f->s->t_pass_ns = (int64_t)cases[c][0];
+			f->s->lamps[0].t_complete_ns = (int64_t)cases[c][1];
+			f->s->lamps[1].t_complete_ns =
+				(int64_t)cases[c][1] - 1000; /* lamp 0 newest */
+			fr = push_and_take(f);
+			t = fr->hdr.scene_t_s;
+			if (!live) {
+				const double want_t = (cases[c][1] - cases[c][0]) / 1e9;
+
+				assert_int_equal(fr->hdr.scene_source, HL_SCENE_LOG);
+				assert_true(t == (want_t > 10.0 ? 10.0 : want_t));
+			} else {
+				assert_int_equal(fr->hdr.scene_source, HL_SCENE_CLOCK);
+				assert_true(t >= 0.0 &&
+					    t <= (double)(hl_clock_monotonic_ns() - t0) / 1e9);
+			}
+			assert_int_equal(fr->hdr.n_actors, 2);
+			/* the glare of the world at t, under the frame's own distributions */
+			hl_world_at(sc, t, &w);
+			dist[0] = fr->dist[0];
+			dist[1] = fr->dist[1];
+			{
+				struct hl_glare *g;
+
+				assert_int_equal(hl_glare_new(sc, reg, grids, &g), 0);
+				assert_int_equal(hl_glare_eval_world(g, &w, dist, want),
+						 __builtin_popcount(fr->hdr.glare_failed));
+				hl_glare_free(g);
+			}
+			for (int i = 0; i < 2; i++) {
+				assert_true(fr->glare[i].distance_m == want[i].distance_m);
+				assert_true(fr->glare[i].illuminance_lx == want[i].illuminance_lx);
+				assert_true(fr->glare[i].pair_half_cd == want[i].pair_half_cd);
+				assert_int_equal(!!(fr->hdr.glare_failed & (1u << i)),
+						 !want[i].pass);
+			}
+			assert_true(fr->hdr.eye_lux_max ==
+				    (float)fmax(want[0].illuminance_lx, want[1].illuminance_lx));
+			hl_frame_pool_release(f->pool, fr);
+		}
+		stop(f, &pc);
+		assert_int_equal(pc.frames, 3);
+	}
+	hl_glare_live_free(gl);
+	hl_regulation_free(reg);
+	hl_scenario_free(sc);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -388,6 +501,7 @@ int main(void)
 		cmocka_unit_test(pipeline_applies_each_failsafe_mode_to_a_stale_lamp),
 		cmocka_unit_test(pipeline_catches_up_in_order_after_a_late_pass),
 		cmocka_unit_test(pipeline_takes_the_newest_when_far_behind),
+		cmocka_unit_test(pipeline_scene_time_from_the_log_pass_and_the_clock),
 	};
 
 	return cmocka_run_group_tests(tests, group_setup, group_teardown);

@@ -179,7 +179,7 @@ static void check_header(const struct hl_frame_header *h, const struct hl_frame_
 	assert_int_equal(h->version, HL_FRAME_VERSION);
 	assert_int_equal(h->header_size, HL_FRAME_HEADER_SIZE);
 	assert_int_equal(HL_FRAME_HEADER_SIZE, 192);
-	assert_int_equal(HL_FRAME_VERSION, 2);
+	assert_int_equal(HL_FRAME_VERSION, 3);
 	assert_int_equal(h->seq, seq);
 	assert_int_equal(h->width, sh->width);
 	assert_int_equal(h->height, sh->height);
