@@ -21,6 +21,7 @@
 #include "render/view.h"
 #include "tools/commands.h"
 #include "tools/preset_arg.h"
+#include "tools/render_args.h"
 #include "lamp/preset.h"
 
 #define DEFAULT_EXPOSURE_EV 0.0 /* 1 cd/m^2 maps to half of full scale */
@@ -114,57 +115,6 @@ struct options {
 	int sensor_batch; /* 0: the backend's default */
 };
 
-static int parse_doubles(const char *s, double *out, int n)
-{
-	char *end;
-
-	for (int i = 0; i < n; i++) {
-		errno = 0;
-		out[i] = strtod(s, &end);
-		if (errno || end == s || !isfinite(out[i]))
-			return -EINVAL;
-		if (i < n - 1) {
-			if (*end != ',')
-				return -EINVAL;
-			s = end + 1;
-		}
-	}
-	return *end ? -EINVAL : 0;
-}
-
-static int parse_iso(const char *s, struct hl_view_lux_opts *o)
-{
-	char *end;
-
-	o->n_iso = 0;
-	while (*s) {
-		double v;
-
-		if (o->n_iso == HL_VIEW_MAX_ISO)
-			return -EINVAL;
-		errno = 0;
-		v = strtod(s, &end);
-		if (errno || end == s || !(v > 0.0) || !isfinite(v) || (*end && *end != ','))
-			return -EINVAL;
-		o->iso_lx[o->n_iso++] = v;
-		s = *end ? end + 1 : end;
-	}
-	return o->n_iso ? 0 : -EINVAL;
-}
-
-static bool ends_with(const char *s, const char *suffix)
-{
-	const size_t n = strlen(s), m = strlen(suffix);
-
-	return n >= m && strcmp(s + n - m, suffix) == 0;
-}
-
-static int bad(const char *opt, const char *arg, const char *expected)
-{
-	fprintf(stderr, "hdlamp render: %s '%s': expected %s\n", opt, arg, expected);
-	return HL_EXIT_USAGE;
-}
-
 /* 0, or an exit code. */
 static int parse(int argc, char **argv, struct options *o)
 {
@@ -254,7 +204,7 @@ static int parse(int argc, char **argv, struct options *o)
 			break;
 		case 'l':
 			if (o->n_lid == 2)
-				return bad("--lid", optarg, "at most two lamp files");
+				return hl_render_bad("--lid", optarg, "at most two lamp files");
 			o->lid[o->n_lid++] = optarg;
 			break;
 		case 'p':
@@ -263,30 +213,31 @@ static int parse(int argc, char **argv, struct options *o)
 		case 's':
 			rc = hl_scene_from_name(optarg);
 			if (rc < 0)
-				return bad("--scene", optarg, "sphere, wall, road, bird or bounce");
+				return hl_render_bad("--scene", optarg,
+						     "sphere, wall, road, bird or bounce");
 			o->scene = rc;
 			break;
 		case 'v':
 			rc = hl_view_from_name(optarg);
 			if (rc < 0)
-				return bad("--view", optarg, "display, hdr, lux or lid");
+				return hl_render_bad("--view", optarg, "display, hdr, lux or lid");
 			o->view = rc;
 			break;
 		case 'S':
-			if (sscanf(optarg, "%dx%d%c", &o->width, &o->height, &tail) != 2 ||
-			    o->width < 2 || o->height < 2 || o->width > 8192 || o->height > 8192)
-				return bad("--size", optarg, "WxH, 2..8192 each");
+			if (hl_render_parse_size(optarg, &o->width, &o->height))
+				return HL_EXIT_USAGE;
 			break;
 		case 'o':
 			o->out = optarg;
 			break;
 		case OPT_EXPOSURE:
-			if (parse_doubles(optarg, &o->exposure_ev, 1) < 0)
-				return bad("--exposure", optarg, "a number (EV)");
+			if (hl_render_parse_numbers(optarg, ',', &o->exposure_ev, 1) < 0)
+				return hl_render_bad("--exposure", optarg, "a number (EV)");
 			break;
 		case OPT_ISO:
-			if (parse_iso(optarg, &o->lux) < 0)
-				return bad("--iso", optarg, "positive lux levels, comma-separated");
+			if (hl_render_parse_iso(optarg, &o->lux) < 0)
+				return hl_render_bad("--iso", optarg,
+						     "positive lux levels, comma-separated");
 			o->have_iso = true;
 			break;
 		case OPT_NO_LABELS:
@@ -296,100 +247,108 @@ static int parse(int argc, char **argv, struct options *o)
 			o->kpi = optarg;
 			break;
 		case OPT_KPI_LEVELS:
-			if (parse_doubles(optarg, o->kpi_levels_lx, HL_ROAD_KPI_LEVELS) < 0 ||
+			if (hl_render_parse_numbers(optarg, ',', o->kpi_levels_lx,
+						    HL_ROAD_KPI_LEVELS) < 0 ||
 			    !(o->kpi_levels_lx[0] > 0.0) || !(o->kpi_levels_lx[1] > 0.0))
-				return bad("--kpi-levels", optarg, "two positive lux levels L1,L2");
+				return hl_render_bad("--kpi-levels", optarg,
+						     "two positive lux levels L1,L2");
 			break;
 		case OPT_WALL:
-			if (parse_doubles(optarg, &o->wall_distance_m, 1) < 0 ||
+			if (hl_render_parse_numbers(optarg, ',', &o->wall_distance_m, 1) < 0 ||
 			    !(o->wall_distance_m > 1.0))
-				return bad("--wall-distance", optarg, "metres > 1");
+				return hl_render_bad("--wall-distance", optarg, "metres > 1");
 			break;
 		case OPT_CAM_POS:
-			if (parse_doubles(optarg, o->camera_pos, 3) < 0)
-				return bad("--camera-pos", optarg, "X,Y,Z in metres");
+			if (hl_render_parse_numbers(optarg, ',', o->camera_pos, 3) < 0)
+				return hl_render_bad("--camera-pos", optarg, "X,Y,Z in metres");
 			o->have_camera_pos = true;
 			break;
 		case OPT_CAM_DIR:
-			if (parse_doubles(optarg, o->camera_dir, 3) < 0 ||
+			if (hl_render_parse_numbers(optarg, ',', o->camera_dir, 3) < 0 ||
 			    (o->camera_dir[0] == 0 && o->camera_dir[1] == 0 &&
 			     o->camera_dir[2] == 0))
-				return bad("--camera-dir", optarg, "X,Y,Z, not zero");
+				return hl_render_bad("--camera-dir", optarg, "X,Y,Z, not zero");
 			o->have_camera_dir = true;
 			break;
 		case OPT_FOV:
-			if (parse_doubles(optarg, &o->fov_deg, 1) < 0 ||
+			if (hl_render_parse_numbers(optarg, ',', &o->fov_deg, 1) < 0 ||
 			    !(o->fov_deg > 1.0 && o->fov_deg < 170.0))
-				return bad("--fov", optarg, "degrees in 1..170");
+				return hl_render_bad("--fov", optarg, "degrees in 1..170");
 			break;
 		case OPT_LEFT_POS:
 		case OPT_RIGHT_POS:
-			if (parse_doubles(optarg, o->poses[c == OPT_RIGHT_POS].pos_m, 3) < 0)
-				return bad(c == OPT_LEFT_POS ? "--left-pos" : "--right-pos", optarg,
-					   "X,Y,Z in metres");
+			if (hl_render_parse_numbers(optarg, ',', o->poses[c == OPT_RIGHT_POS].pos_m,
+						    3) < 0)
+				return hl_render_bad(c == OPT_LEFT_POS ? "--left-pos" :
+									 "--right-pos",
+						     optarg, "X,Y,Z in metres");
 			break;
 		case OPT_LEFT_AIM:
 		case OPT_RIGHT_AIM:
-			if (parse_doubles(optarg, v, 2) < 0 || fabs(v[0]) > 90 || fabs(v[1]) > 45)
-				return bad(c == OPT_LEFT_AIM ? "--left-aim" : "--right-aim", optarg,
-					   "YAW,PITCH in degrees");
+			if (hl_render_parse_numbers(optarg, ',', v, 2) < 0 || fabs(v[0]) > 90 ||
+			    fabs(v[1]) > 45)
+				return hl_render_bad(c == OPT_LEFT_AIM ? "--left-aim" :
+									 "--right-aim",
+						     optarg, "YAW,PITCH in degrees");
 			o->poses[c == OPT_RIGHT_AIM].yaw_deg = v[0];
 			o->poses[c == OPT_RIGHT_AIM].pitch_deg = v[1];
 			break;
 		case OPT_LAMP:
 			rc = hl_side_from_name(optarg);
 			if (rc < 0)
-				return bad("--lamp", optarg, "left or right");
+				return hl_render_bad("--lamp", optarg, "left or right");
 			o->lamp = rc;
 			break;
 		case OPT_BACKEND:
 			rc = hl_backend_from_name(optarg);
 			if (rc < 0)
-				return bad("--backend", optarg, "auto, cpu or gles");
+				return hl_render_bad("--backend", optarg, "auto, cpu or gles");
 			o->backend = rc;
 			break;
 		case OPT_GI:
 			if (strcmp(optarg, "sensor") != 0)
-				return bad("--gi", optarg, "sensor");
+				return hl_render_bad("--gi", optarg, "sensor");
 			o->gi = true;
 			break;
 		case OPT_SENSOR_SIZE:
 			if (sscanf(optarg, "%d%c", &o->gi_cfg.sensor_size, &tail) != 1 ||
 			    o->gi_cfg.sensor_size < 2 || o->gi_cfg.sensor_size > 512 ||
 			    o->gi_cfg.sensor_size % 2)
-				return bad("--sensor-size", optarg, "an even number in 2..512");
+				return hl_render_bad("--sensor-size", optarg,
+						     "an even number in 2..512");
 			break;
 		case OPT_TILE:
 			if (sscanf(optarg, "%d%c", &o->gi_cfg.tile, &tail) != 1 ||
 			    o->gi_cfg.tile < 1 || o->gi_cfg.tile > 256 ||
 			    (o->gi_cfg.tile & (o->gi_cfg.tile - 1)))
-				return bad("--tile", optarg, "a power of two in 1..256");
+				return hl_render_bad("--tile", optarg, "a power of two in 1..256");
 			break;
 		case OPT_DRADIANCE:
-			if (parse_doubles(optarg, &o->gi_cfg.dradiance, 1) < 0 ||
+			if (hl_render_parse_numbers(optarg, ',', &o->gi_cfg.dradiance, 1) < 0 ||
 			    !(o->gi_cfg.dradiance > 0.0))
-				return bad("--dradiance", optarg, "a number > 0");
+				return hl_render_bad("--dradiance", optarg, "a number > 0");
 			break;
 		case OPT_SENSOR_AA:
 			if (sscanf(optarg, "%d%c", &o->gi_cfg.aa_samples, &tail) != 1 ||
 			    o->gi_cfg.aa_samples < 1 || o->gi_cfg.aa_samples > 16)
-				return bad("--sensor-aa", optarg, "1..16");
+				return hl_render_bad("--sensor-aa", optarg, "1..16");
 			break;
 		case OPT_GI_THREADS:
 			if (sscanf(optarg, "%d%c", &o->gi_cfg.threads, &tail) != 1 ||
 			    o->gi_cfg.threads < 1 || o->gi_cfg.threads > HL_GI_MAX_THREADS)
-				return bad("--gi-threads", optarg, "1..64");
+				return hl_render_bad("--gi-threads", optarg, "1..64");
 			break;
 		case OPT_SENSOR_BACKEND:
 			rc = hl_backend_from_name(optarg);
 			if (rc < 0)
-				return bad("--sensor-backend", optarg, "auto, cpu or gles");
+				return hl_render_bad("--sensor-backend", optarg,
+						     "auto, cpu or gles");
 			o->sensor_backend = rc;
 			break;
 		case OPT_SENSOR_BATCH:
 			if (sscanf(optarg, "%d%c", &o->sensor_batch, &tail) != 1 ||
 			    o->sensor_batch < 1 || o->sensor_batch > 4096)
-				return bad("--sensor-batch", optarg, "1..4096");
+				return hl_render_bad("--sensor-batch", optarg, "1..4096");
 			break;
 		case 'h':
 			usage(stdout);
@@ -404,45 +363,13 @@ static int parse(int argc, char **argv, struct options *o)
 		usage(stderr);
 		return HL_EXIT_USAGE;
 	}
-	if (!ends_with(o->out, ".png") && !ends_with(o->out, ".exr"))
-		return bad("--out", o->out, "a .png or .exr file");
-	if (o->view == HL_VIEW_HDR && !ends_with(o->out, ".exr"))
-		return bad("--out", o->out, "an .exr file for the hdr view");
-	if (o->gi && (o->view != HL_VIEW_DISPLAY || !ends_with(o->out, ".png")))
-		return bad("--out", o->out, "a .png file and the display view with --gi");
+	if (!hl_render_ends_with(o->out, ".png") && !hl_render_ends_with(o->out, ".exr"))
+		return hl_render_bad("--out", o->out, "a .png or .exr file");
+	if (o->view == HL_VIEW_HDR && !hl_render_ends_with(o->out, ".exr"))
+		return hl_render_bad("--out", o->out, "an .exr file for the hdr view");
+	if (o->gi && (o->view != HL_VIEW_DISPLAY || !hl_render_ends_with(o->out, ".png")))
+		return hl_render_bad("--out", o->out, "a .png file and the display view with --gi");
 	return 0;
-}
-
-/* Lamp files and the currents of the preset: 0 or -errno (reported). */
-static int load_lamps(const struct options *o, struct hl_lid *lids[2], int *n_lamps,
-		      struct hl_preset **ret_preset)
-{
-	char path[4096];
-	int rc;
-
-	*n_lamps = o->lamps_dir ? 2 : o->n_lid;
-	for (int k = 0; k < *n_lamps; k++) {
-		struct hl_lid_error err;
-
-		if (o->lamps_dir)
-			snprintf(path, sizeof(path), "%s/hd84_%s.lid.exr", o->lamps_dir,
-				 hl_side_name(k));
-		else
-			snprintf(path, sizeof(path), "%s", o->lid[k]);
-		rc = hl_lid_read(path, &lids[k], &err);
-		if (rc < 0) {
-			fprintf(stderr, "hdlamp render: %s\n", err.msg);
-			return rc;
-		}
-	}
-	if (hl_lid_is_combined(lids[0]) && (*n_lamps == 1 || hl_lid_is_combined(lids[1])))
-		return 0;
-	/* A file, DIR/NAME.json, or a built-in HD84 preset. */
-	if (o->lamps_dir && !ends_with(o->preset, ".json") && !strchr(o->preset, '/'))
-		snprintf(path, sizeof(path), "%s/%s.json", o->lamps_dir, o->preset);
-	else
-		snprintf(path, sizeof(path), "%s", o->preset);
-	return hl_tool_preset_load("render", path, lids, *n_lamps, ret_preset);
 }
 
 /*
@@ -526,7 +453,7 @@ static int write_image(const struct options *o, const struct hl_camera *cam,
 	int rc;
 
 	memcpy(info.lamps, o->poses, sizeof(info.lamps));
-	if (ends_with(o->out, ".exr")) {
+	if (hl_render_ends_with(o->out, ".exr")) {
 		if (o->view == HL_VIEW_LUX) {
 			rc = hl_frame_exr_write_lux(o->out, gb->width, gb->height, lux, &info,
 						    &err);
@@ -573,7 +500,7 @@ static int write_lid(const struct options *o, struct hl_renderer *r, int n_lamps
 		fprintf(stderr, "hdlamp render: --lamp right: only one lamp given\n");
 		return -EINVAL;
 	}
-	if (ends_with(o->out, ".exr")) {
+	if (hl_render_ends_with(o->out, ".exr")) {
 		rc = hl_lid_write_combined(hl_renderer_grid(r, k), dense, o->out, &err);
 		if (rc < 0)
 			fprintf(stderr, "hdlamp render: %s\n", err.msg);
@@ -847,7 +774,8 @@ int hl_cmd_render(int argc, char **argv)
 	}
 	fprintf(stderr, "hdlamp render: EGL %s, %s, %s\n", hl_egl_platform(egl),
 		hl_egl_renderer(egl), hl_egl_version(egl));
-	if (load_lamps(&o, lids, &n_lamps, &preset) < 0)
+	if (hl_render_load_lamps(o.lamps_dir, o.lid, o.n_lid, o.preset, lids, &n_lamps, &preset) <
+	    0)
 		goto out;
 
 	hl_scene_init(&scene, o.scene, o.poses);

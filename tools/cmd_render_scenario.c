@@ -22,6 +22,7 @@
 #include "render/world_scene.h"
 #include "tools/commands.h"
 #include "tools/preset_arg.h"
+#include "tools/render_args.h"
 #include "lamp/preset.h"
 
 #define DEFAULT_EXPOSURE_EV 0.0
@@ -71,58 +72,6 @@ struct options {
 	enum hl_backend backend;
 };
 
-static bool ends_with(const char *s, const char *suffix)
-{
-	const size_t n = strlen(s), m = strlen(suffix);
-
-	return n >= m && strcmp(s + n - m, suffix) == 0;
-}
-
-static int bad(const char *opt, const char *arg, const char *expected)
-{
-	fprintf(stderr, "hdlamp render: %s '%s': expected %s\n", opt, arg, expected);
-	return HL_EXIT_USAGE;
-}
-
-/* n numbers separated by sep; 0 or -EINVAL. */
-static int parse_numbers(const char *s, char sep, double *out, int n)
-{
-	char *end;
-
-	for (int i = 0; i < n; i++) {
-		errno = 0;
-		out[i] = strtod(s, &end);
-		if (errno || end == s || !isfinite(out[i]))
-			return -EINVAL;
-		if (i < n - 1) {
-			if (*end != sep)
-				return -EINVAL;
-			s = end + 1;
-		}
-	}
-	return *end ? -EINVAL : 0;
-}
-
-static int parse_iso(const char *s, struct hl_view_lux_opts *o)
-{
-	char *end;
-
-	o->n_iso = 0;
-	while (*s) {
-		double v;
-
-		if (o->n_iso == HL_VIEW_MAX_ISO)
-			return -EINVAL;
-		errno = 0;
-		v = strtod(s, &end);
-		if (errno || end == s || !(v > 0.0) || !isfinite(v) || (*end && *end != ','))
-			return -EINVAL;
-		o->iso_lx[o->n_iso++] = v;
-		s = *end ? end + 1 : end;
-	}
-	return o->n_iso ? 0 : -EINVAL;
-}
-
 /* 0, or an exit code (a negative one: --help was printed). */
 static int parse(int argc, char **argv, struct options *o)
 {
@@ -145,7 +94,6 @@ static int parse(int argc, char **argv, struct options *o)
 		{ NULL, 0, NULL, 0 },
 	};
 	double v[3];
-	char tail;
 	int c, rc;
 
 	*o = (struct options){
@@ -163,18 +111,19 @@ static int parse(int argc, char **argv, struct options *o)
 			o->scenario = optarg;
 			break;
 		case OPT_AT:
-			if (parse_numbers(optarg, ',', &o->t0_s, 1) < 0)
-				return bad("--at", optarg, "a time in seconds");
+			if (hl_render_parse_numbers(optarg, ',', &o->t0_s, 1) < 0)
+				return hl_render_bad("--at", optarg, "a time in seconds");
 			o->t1_s = o->t0_s;
 			o->step_s = 1.0;
 			o->have_at = true;
 			break;
 		case OPT_FRAMES:
-			if (parse_numbers(optarg, ':', v, 3) < 0 || !(v[2] > 0.0) || v[1] < v[0] ||
-			    (v[1] - v[0]) / v[2] >= MAX_FRAMES)
-				return bad("--frames", optarg,
-					   "A:B:STEP in seconds, A <= B, STEP > 0, at most 100000 "
-					   "frames");
+			if (hl_render_parse_numbers(optarg, ':', v, 3) < 0 || !(v[2] > 0.0) ||
+			    v[1] < v[0] || (v[1] - v[0]) / v[2] >= MAX_FRAMES)
+				return hl_render_bad(
+					"--frames", optarg,
+					"A:B:STEP in seconds, A <= B, STEP > 0, at most 100000 "
+					"frames");
 			o->t0_s = v[0];
 			o->t1_s = v[1];
 			o->step_s = v[2];
@@ -185,7 +134,7 @@ static int parse(int argc, char **argv, struct options *o)
 			break;
 		case 'l':
 			if (o->n_lid == 2)
-				return bad("--lid", optarg, "at most two lamp files");
+				return hl_render_bad("--lid", optarg, "at most two lamp files");
 			o->lid[o->n_lid++] = optarg;
 			break;
 		case 'p':
@@ -193,35 +142,37 @@ static int parse(int argc, char **argv, struct options *o)
 			break;
 		case 's':
 			if (strcmp(optarg, "road") != 0 && strcmp(optarg, "bird") != 0)
-				return bad("--scene", optarg, "road or bird with --scenario");
+				return hl_render_bad("--scene", optarg,
+						     "road or bird with --scenario");
 			o->bird = strcmp(optarg, "bird") == 0;
 			break;
 		case 'v':
 			rc = hl_view_from_name(optarg);
 			if (rc < 0 || rc == HL_VIEW_LID)
-				return bad("--view", optarg, "display, lux or hdr with --scenario");
+				return hl_render_bad("--view", optarg,
+						     "display, lux or hdr with --scenario");
 			o->view = rc;
 			break;
 		case 'S':
-			if (sscanf(optarg, "%dx%d%c", &o->width, &o->height, &tail) != 2 ||
-			    o->width < 2 || o->height < 2 || o->width > 8192 || o->height > 8192)
-				return bad("--size", optarg, "WxH, 2..8192 each");
+			if (hl_render_parse_size(optarg, &o->width, &o->height))
+				return HL_EXIT_USAGE;
 			break;
 		case 'o':
 			o->out = optarg;
 			break;
 		case OPT_EXPOSURE:
-			if (parse_numbers(optarg, ',', &o->exposure_ev, 1) < 0)
-				return bad("--exposure", optarg, "a number (EV)");
+			if (hl_render_parse_numbers(optarg, ',', &o->exposure_ev, 1) < 0)
+				return hl_render_bad("--exposure", optarg, "a number (EV)");
 			break;
 		case OPT_ISO:
-			if (parse_iso(optarg, &o->lux) < 0)
-				return bad("--iso", optarg, "positive lux levels, comma-separated");
+			if (hl_render_parse_iso(optarg, &o->lux) < 0)
+				return hl_render_bad("--iso", optarg,
+						     "positive lux levels, comma-separated");
 			break;
 		case OPT_BACKEND:
 			rc = hl_backend_from_name(optarg);
 			if (rc < 0)
-				return bad("--backend", optarg, "auto, cpu or gles");
+				return hl_render_bad("--backend", optarg, "auto, cpu or gles");
 			o->backend = rc;
 			break;
 		case 'h':
@@ -242,44 +193,13 @@ static int parse(int argc, char **argv, struct options *o)
 			"hdlamp render: --scenario needs one of --at T or --frames A:B:STEP\n");
 		return HL_EXIT_USAGE;
 	}
-	if (!ends_with(o->out, ".png") && !ends_with(o->out, ".exr"))
-		return bad("--out", o->out, "a .png or .exr file");
-	if (o->view == HL_VIEW_HDR && !ends_with(o->out, ".exr"))
-		return bad("--out", o->out, "an .exr file for the hdr view");
+	if (!hl_render_ends_with(o->out, ".png") && !hl_render_ends_with(o->out, ".exr"))
+		return hl_render_bad("--out", o->out, "a .png or .exr file");
+	if (o->view == HL_VIEW_HDR && !hl_render_ends_with(o->out, ".exr"))
+		return hl_render_bad("--out", o->out, "an .exr file for the hdr view");
 	if (isnan(o->exposure_ev))
 		o->exposure_ev = o->bird ? BIRD_EXPOSURE_EV : DEFAULT_EXPOSURE_EV;
 	return 0;
-}
-
-/* Lamp files and the preset's currents, as hdlamp render: 0 or -errno (reported). */
-static int load_lamps(const struct options *o, struct hl_lid *lids[2], int *n_lamps,
-		      struct hl_preset **ret_preset)
-{
-	char path[4096];
-	int rc;
-
-	*n_lamps = o->lamps_dir ? 2 : o->n_lid;
-	for (int k = 0; k < *n_lamps; k++) {
-		struct hl_lid_error err;
-
-		if (o->lamps_dir)
-			snprintf(path, sizeof(path), "%s/hd84_%s.lid.exr", o->lamps_dir,
-				 hl_side_name(k));
-		else
-			snprintf(path, sizeof(path), "%s", o->lid[k]);
-		rc = hl_lid_read(path, &lids[k], &err);
-		if (rc < 0) {
-			fprintf(stderr, "hdlamp render: %s\n", err.msg);
-			return rc;
-		}
-	}
-	if (hl_lid_is_combined(lids[0]) && (*n_lamps == 1 || hl_lid_is_combined(lids[1])))
-		return 0;
-	if (o->lamps_dir && !ends_with(o->preset, ".json") && !strchr(o->preset, '/'))
-		snprintf(path, sizeof(path), "%s/%s.json", o->lamps_dir, o->preset);
-	else
-		snprintf(path, sizeof(path), "%s", o->preset);
-	return hl_tool_preset_load("render", path, lids, *n_lamps, ret_preset);
 }
 
 /* The camera of the frames, in the ego frame. */
@@ -335,7 +255,7 @@ static int write_frame(const struct options *o, const char *path, const struct h
 	info.n_meta = 1;
 	info.meta_names[0] = "hdlamp:scenarioTime";
 	info.meta_values[0] = t_text;
-	if (ends_with(path, ".exr")) {
+	if (hl_render_ends_with(path, ".exr")) {
 		if (o->view == HL_VIEW_LUX) {
 			rc = hl_frame_exr_write_lux(path, gb->width, gb->height, b->lux, &info,
 						    &err);
@@ -442,7 +362,8 @@ int hl_cmd_render_scenario(int argc, char **argv)
 	}
 	fprintf(stderr, "hdlamp render: EGL %s, %s, %s\n", hl_egl_platform(egl),
 		hl_egl_renderer(egl), hl_egl_version(egl));
-	if (load_lamps(&o, lids, &n_lamps, &preset) < 0)
+	if (hl_render_load_lamps(o.lamps_dir, o.lid, o.n_lid, o.preset, lids, &n_lamps, &preset) <
+	    0)
 		goto out;
 	rc = hl_world_scene_new(sc, &ws);
 	if (rc == 0)
