@@ -129,14 +129,18 @@ static int write_files(const char *path, const struct hl_frame *f,
 		info.meta_names[info.n_meta] = "hdlamp:verdict";
 		info.meta_values[info.n_meta++] = verdict;
 	}
-	rgba = malloc(sizeof(float) * 4 * h->width * h->height);
-	if (!rgba) {
-		rc = -ENOMEM;
-		goto out;
+	/* the luminance needs the frame's G-buffer: a still scene's (a moving one has none) */
+	if (sc->gb) {
+		rgba = malloc(sizeof(float) * 4 * h->width * h->height);
+		if (!rgba) {
+			rc = -ENOMEM;
+			goto out;
+		}
+		hl_view_hdr(sc->gb, f->lux, rgba);
+		snprintf(file, sizeof(file), "%s/hdr.exr", path);
+		rc = hl_frame_exr_write_hdr(file, (int)h->width, (int)h->height, rgba, &info,
+					    &lerr);
 	}
-	hl_view_hdr(sc->gb, f->lux, rgba);
-	snprintf(file, sizeof(file), "%s/hdr.exr", path);
-	rc = hl_frame_exr_write_hdr(file, (int)h->width, (int)h->height, rgba, &info, &lerr);
 	if (rc == 0) {
 		snprintf(file, sizeof(file), "%s/lux.exr", path);
 		rc = hl_frame_exr_write_lux(file, (int)h->width, (int)h->height, f->lux, &info,

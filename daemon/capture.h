@@ -28,7 +28,7 @@
 #include "render/scene.h"
 
 struct hl_capture_scene {
-	const struct hl_gbuffer *gb;
+	const struct hl_gbuffer *gb; /* NULL: a moving scene, no hdr.exr */
 	const struct hl_camera *cam;
 	int n_lamps;
 	const char *lamp_names[HL_FRAME_MAX_LAMPS];

@@ -19,6 +19,8 @@
 #define HL_FRAME_HEADER_SIZE 192
 /* lamps a frame shows: fixed by the wire header, and what the renderer lights */
 #define HL_FRAME_MAX_LAMPS 2
+/* road users' lamps a display frame shows at most (render/scenario.h: 16 users, 8 lamps) */
+#define HL_FRAME_MAX_GLOW 128
 
 _Static_assert(HL_FRAME_MAX_LAMPS == HL_HEADLIGHT_MAX_LAMPS,
 	       "a frame carries exactly the lamps the renderer lights");
@@ -102,6 +104,13 @@ struct hl_frame {
 	struct hl_req_result *results;
 	int n_results;
 	int64_t beam_mode; /* the HdlBeamMode value the sets were chosen by, -1: none */
+	/*
+	 * A moving scene's display view: the pixel boxes (x0, y0, x1, y1) the road users' lamps
+	 * were drawn into. The display pass writes only pixels the ego lamps can reach, so the
+	 * next frame rendered into this buffer clears them first (daemon/pipeline.c).
+	 */
+	int n_glow;
+	int glow[HL_FRAME_MAX_GLOW][4];
 	/* with a scenario: each road user's glare at this frame (hdr.n_actors of them) */
 	struct hl_glare_result glare[HL_SCN_MAX_ACTORS];
 	int64_t t_pose_rx_ns; /* scene_source pose: when that message arrived (CLOCK_MONOTONIC) */

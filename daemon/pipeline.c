@@ -23,6 +23,7 @@
 #include "render/renderer.h"
 #include "render/view.h"
 #include "render/workers.h"
+#include "render/world_scene.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
 /*
@@ -79,6 +80,9 @@ struct hl_pipeline {
 	 * draw this same instant (the moving scene): pass &p->world to it where render() says.
 	 */
 	struct hl_world_state world;
+	/* the moving scene's ray cast (a scenario): p->world into p->gb every frame; NULL: still */
+	struct hl_world_scene *ws;
+	struct hl_world_emitter emitters[HL_SCN_MAX_ACTORS * HL_SCN_MAX_LAMPS];
 	enum hl_scene_source world_source;
 	int64_t world_pose_rx_ns; /* world_source pose: when that message arrived */
 
@@ -222,7 +226,7 @@ const char *hl_pipeline_describe(const struct hl_pipeline *p)
 
 const struct hl_gbuffer *hl_pipeline_gbuffer(const struct hl_pipeline *p)
 {
-	return p->gb;
+	return p->ws ? NULL : p->gb; /* a moving scene's changes every frame */
 }
 
 const struct hl_camera *hl_pipeline_camera(const struct hl_pipeline *p)
@@ -253,12 +257,30 @@ static int setup(struct hl_pipeline *p)
 	hl_lamp_pose_default(1, &poses[1]);
 	hl_scene_init(&p->scene, kind, poses);
 	hl_scene_default_camera(&p->scene, p->cfg.width, p->cfg.height, &p->cam);
-	rc = hl_gbuffer_new(p->cfg.width, p->cfg.height, &p->gb);
-	if (rc == 0)
-		rc = hl_scene_render(&p->scene, &p->cam, p->gb);
+	if (p->sc) {
+		/*
+		 * The moving scene: the driver's camera and the ego lamps, fixed in the ego frame
+		 * the G-buffer is cast in (render/world_scene.h); render.scene does not apply.
+		 */
+		p->cam = p->sc->ego.camera;
+		p->cam.width = p->cfg.width;
+		p->cam.height = p->cfg.height;
+		memcpy(poses, p->sc->ego.lamp, sizeof(poses));
+		rc_cfg.moving = true;
+		hl_world_at(p->sc, 0.0, &p->world);
+		rc = hl_world_scene_new(p->sc, &p->ws);
+		if (rc == 0)
+			rc = hl_gbuffer_new(p->cfg.width, p->cfg.height, &p->gb);
+		if (rc == 0)
+			rc = hl_world_scene_render(p->ws, &p->world, &p->cam, p->gb);
+	} else {
+		rc = hl_gbuffer_new(p->cfg.width, p->cfg.height, &p->gb);
+		if (rc == 0)
+			rc = hl_scene_render(&p->scene, &p->cam, p->gb);
+	}
 	if (rc < 0) {
-		snprintf(p->start_err, sizeof(p->start_err), "scene '%s': %s", p->cfg.scene,
-			 strerror(-rc));
+		snprintf(p->start_err, sizeof(p->start_err), "scene '%s': %s",
+			 p->sc ? "scenario" : p->cfg.scene, strerror(-rc));
 		return rc;
 	}
 	rc_cfg.n_lamps = p->n_lamps;
@@ -307,6 +329,8 @@ static void teardown(struct hl_pipeline *p)
 	p->r = NULL;
 	hl_gbuffer_free(p->gb);
 	p->gb = NULL;
+	hl_world_scene_free(p->ws);
+	p->ws = NULL;
 	hl_egl_free(p->egl);
 	p->egl = NULL;
 }
@@ -421,6 +445,27 @@ static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int new
 	hl_world_at(p->sc, t_s, &p->world);
 }
 
+_Static_assert(HL_FRAME_MAX_GLOW >= HL_SCN_MAX_ACTORS * HL_SCN_MAX_LAMPS,
+	       "a frame records the glow of every road user's lamp");
+
+/*
+ * Blacks out the road users' lamps drawn when this pool buffer last held a frame: the display
+ * pass rewrites only the pixels the ego lamps reach, and those are written again after this.
+ */
+static void clear_glow(const struct hl_pipeline *p, struct hl_frame *f)
+{
+	const int w = p->cfg.width;
+
+	for (int k = 0; k < f->n_glow; k++) {
+		const int *b = f->glow[k];
+
+		for (int y = b[1]; y <= b[3]; y++)
+			memset(f->pixels + 3 * ((size_t)y * w + b[0]), 0,
+			       3 * (size_t)(b[2] - b[0] + 1));
+	}
+	f->n_glow = 0;
+}
+
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
@@ -473,12 +518,28 @@ static void render(struct hl_pipeline *p)
 		p->last_seq[l] = s->lamps[l].cycle_seq;
 	}
 	pthread_mutex_unlock(&p->lock);
-	/* the renderer still draws the configured scene; the moving one is to light p->world */
+	if (p->ws) {
+		/* the moving scene at the frame's instant: only what changed is lit anew */
+		hl_world_scene_render(p->ws, &p->world, &p->cam, p->gb);
+		hl_renderer_set_gbuffer(p->r, p->gb);
+	}
 	if (f && p->view == HL_VIEW_DISPLAY) {
 		/* tone-mapped band by band while the band's illuminance is in the cache */
 		struct display_job j = { p->gb, ev, f->pixels };
 
+		if (p->ws)
+			clear_glow(p, f);
 		hl_renderer_frame_pixels(p->r, f->lux, display_band, &j);
+		if (p->ws) {
+			/* the road users' lamps, as the driver sees them */
+			const int n = hl_world_scene_emitters(
+				p->ws, &p->world, &p->cam, p->emitters,
+				(int)(sizeof(p->emitters) / sizeof(p->emitters[0])));
+
+			hl_world_emitters_draw(&p->cam, p->emitters, n, ev, f->pixels);
+			f->n_glow = hl_world_emitters_boxes(&p->cam, p->emitters, n, ev, f->glow,
+							    HL_FRAME_MAX_GLOW);
+		}
 	} else {
 		hl_renderer_frame(p->r, f ? f->lux : p->lux);
 	}

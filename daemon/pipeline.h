@@ -107,7 +107,10 @@ void hl_pipeline_stop(struct hl_pipeline *p);
 
 /* The renderer's description ("EGL surfaceless, llvmpipe ...; combine cpu, headlight cpu"). */
 const char *hl_pipeline_describe(const struct hl_pipeline *p);
-/* The static G-buffer (valid between start and stop; read-only). */
+/*
+ * The static G-buffer (valid between start and stop; read-only); NULL with a scenario, whose
+ * moving G-buffer the render thread rewrites every frame.
+ */
 const struct hl_gbuffer *hl_pipeline_gbuffer(const struct hl_pipeline *p);
 const struct hl_camera *hl_pipeline_camera(const struct hl_pipeline *p);
 /* Live settings a reload may change. */

@@ -551,28 +551,68 @@ static uint8_t tone(double x)
 	return hl_pixel_srgb8((float)(x / (1.0 + x)));
 }
 
+/* The glow's radius, a lens's blur, in pixels. */
+static double glow_sigma(const struct hl_camera *cam)
+{
+	return fmax(0.6, cam->width / 1280.0);
+}
+
+/*
+ * Emitter e's glow: its peak luminance (as the display view's tone map takes it) and the pixel
+ * box it can reach (x0, y0, x1, y1, inclusive, clipped to the image). False: nothing drawn.
+ */
+static bool glow_box(const struct hl_camera *cam, const struct hl_world_emitter *e,
+		     double exposure_ev, double *ret_peak, int box[4])
+{
+	const int w = cam->width, h = cam->height;
+	/* Solid angle of a pixel at the image centre. */
+	const double pix_rad = 2.0 * tan(cam->fov_y_deg * M_PI / 360.0) / h;
+	const double omega = pix_rad * pix_rad, sigma = glow_sigma(cam);
+	/* Luminance at the disc's centre: the illuminance spread as a Gaussian. */
+	const double peak = e->illuminance_lx / omega / (M_PI * sigma * sigma) * exp2(exposure_ev);
+	double reach;
+
+	if (!e->visible || !(peak > GLOW_FLOOR))
+		return false;
+	reach = fmin(sigma * sqrt(log(peak / GLOW_FLOOR)), GLOW_MAX_PX);
+	box[0] = (int)fmax(floor(e->x_px - reach), 0.0);
+	box[1] = (int)fmax(floor(e->y_px - reach), 0.0);
+	box[2] = (int)fmin(ceil(e->x_px + reach), w - 1.0);
+	box[3] = (int)fmin(ceil(e->y_px + reach), h - 1.0);
+	*ret_peak = peak;
+	return box[0] <= box[2] && box[1] <= box[3];
+}
+
+int hl_world_emitters_boxes(const struct hl_camera *cam, const struct hl_world_emitter *e, int n,
+			    double exposure_ev, int (*ret)[4], int max)
+{
+	int m = 0;
+
+	for (int k = 0; k < n && m < max; k++) {
+		double peak;
+
+		if (glow_box(cam, &e[k], exposure_ev, &peak, ret[m]))
+			m++;
+	}
+	return m;
+}
+
 void hl_world_emitters_draw(const struct hl_camera *cam, const struct hl_world_emitter *e, int n,
 			    double exposure_ev, uint8_t *rgb)
 {
-	const int w = cam->width, h = cam->height;
-	/* Solid angle of a pixel at the image centre; the glow's radius, a lens's blur. */
-	const double pix_rad = 2.0 * tan(cam->fov_y_deg * M_PI / 360.0) / h;
-	const double omega = pix_rad * pix_rad, sigma = fmax(0.6, w / 1280.0);
-	const double scale = exp2(exposure_ev);
+	const int w = cam->width;
+	const double sigma = glow_sigma(cam);
 
 	for (int k = 0; k < n; k++) {
-		/* Luminance at the disc's centre: the illuminance spread as a Gaussian. */
-		const double peak = e[k].illuminance_lx / omega / (M_PI * sigma * sigma) * scale;
-		double reach;
-		int x0, x1, y0, y1;
+		double peak;
+		int box[4], x0, x1, y0, y1;
 
-		if (!e[k].visible || !(peak > GLOW_FLOOR))
+		if (!glow_box(cam, &e[k], exposure_ev, &peak, box))
 			continue;
-		reach = fmin(sigma * sqrt(log(peak / GLOW_FLOOR)), GLOW_MAX_PX);
-		x0 = (int)fmax(floor(e[k].x_px - reach), 0.0);
-		x1 = (int)fmin(ceil(e[k].x_px + reach), w - 1.0);
-		y0 = (int)fmax(floor(e[k].y_px - reach), 0.0);
-		y1 = (int)fmin(ceil(e[k].y_px + reach), h - 1.0);
+		x0 = box[0];
+		y0 = box[1];
+		x1 = box[2];
+		y1 = box[3];
 		for (int y = y0; y <= y1; y++)
 			for (int x = x0; x <= x1; x++) {
 				const double dx = x + 0.5 - e[k].x_px, dy = y + 0.5 - e[k].y_px;

@@ -95,5 +95,12 @@ int hl_world_scene_emitters(const struct hl_world_scene *ws, const struct hl_wor
  */
 void hl_world_emitters_draw(const struct hl_camera *cam, const struct hl_world_emitter *e, int n,
 			    double exposure_ev, uint8_t *rgb);
+/*
+ * The pixel boxes hl_world_emitters_draw() with the same arguments writes into: (x0, y0, x1,
+ * y1) inclusive per drawn emitter, at most max; returns how many. A display buffer reused for
+ * a later frame whose pass writes only lit pixels must clear them first.
+ */
+int hl_world_emitters_boxes(const struct hl_camera *cam, const struct hl_world_emitter *e, int n,
+			    double exposure_ev, int (*ret)[4], int max);
 
 #endif

@@ -307,3 +307,67 @@ def test_pose_input_needs_a_scenario(hdlamp, lamps, tmp_path):
     assert r.returncode == 2
     assert "--pose tcp:127.0.0.1:1: key 'pose.listen': 'tcp:127.0.0.1:1': expected " \
            "udp:HOST:PORT" in r.stderr, r.stderr
+
+
+def moving_frames(lamps, log, scn, times):
+    """The daemon's display frames (320x180, RGB) within 0.1 s of each scenario time in times,
+    by their own header's scenario time over one pass of the log: {scene_t_s: pixels}."""
+    import numpy as np  # only this test needs it
+
+    from test_render_scenario import H, W
+    d = Daemon(lamps, log, "--scenario", scn, "--set", f"render.size={W}x{H}", sets=ADB)
+    out = {}
+    try:
+        s = connect(d.stream_port)
+        last_t = -1.0
+        while True:
+            f = read_frame(s)
+            assert f is not None, "the stream ended"
+            h, px = f
+            t = h["scene_t_s"]
+            if t < last_t:  # the next pass: every time of the log was shown
+                break
+            last_t = t
+            if any(abs(t - want) <= 0.1 for want in times):
+                out[t] = np.frombuffer(px, np.uint8).reshape(H, W, 3).copy()
+        s.close()
+    finally:
+        d.stop()
+    return out
+
+
+def test_the_daemon_draws_the_moving_scene(hdlamp, lamps, tmp_path):
+    """With a scenario the frames show its moving scene at their own scenario time: the pixels
+    that differ from the same replay of the scenario without its road users lie on the
+    oncoming car's box as the test projects it from the road geometry at that time, its
+    headlamps are the brightest of them, and it grows as it approaches
+    (tests/it/test_render_scenario.py does the same for 'hdlamp render --scenario')."""
+    import numpy as np
+
+    from test_render_scenario import car_box_px, scenario_path, without_actors
+    log = hold_log(hdlamp, tmp_path, "low", cycles=300)  # 6 s per pass
+    times = [1.5, 2.5, 4.0, 5.5]
+    with_car = moving_frames(lamps, log, scenario_path("straight"), times)
+    empty = moving_frames(lamps, log, without_actors("straight", tmp_path), times)
+    widths = []
+    for want in times:
+        # the same instant in both runs (the log's time: the same cycle), nearest to want
+        t = min(set(with_car) & set(empty), key=lambda x: abs(x - want))
+        assert abs(t - want) < 0.05, (want, t)
+        a, b = with_car[t], empty[t]
+        assert a.std() > 2, f"{t} s: a uniform frame"
+        diff = np.abs(a.astype(int) - b.astype(int)).max(axis=2) > 8
+        ys, xs = np.nonzero(diff)
+        assert len(xs) > 0, f"{t} s: the car is not seen"
+        (x0, y0, x1, y1), mid, span = car_box_px("straight", t)
+        m = 4
+        inside = (xs >= x0 - m) & (xs <= x1 + m) & (ys >= y0 - m) & (ys <= y1 + m)
+        assert inside.all(), (f"{t} s: {np.count_nonzero(~inside)} changed pixels outside the "
+                              f"predicted box {x0:.1f}..{x1:.1f} x {y0:.1f}..{y1:.1f}")
+        grey = a.astype(float).mean(axis=2)
+        by, bx = np.nonzero(diff & (grey >= 250))
+        assert len(bx) > 0, f"{t} s: no lamp in the display view"
+        assert abs(bx.mean() + 0.5 - mid[0]) <= 1.5 + span / 2, (t, bx.mean(), mid)
+        assert abs(by.mean() + 0.5 - mid[1]) <= 1.5, (t, by.mean(), mid)
+        widths.append(xs.max() - xs.min() + 1)
+    assert all(b >= a for a, b in zip(widths, widths[1:])) and widths[-1] > widths[0], widths

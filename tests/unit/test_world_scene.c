@@ -355,6 +355,7 @@ static void straight_iihs_ground_and_markings(void **state)
 	hl_scenario_free(sc);
 }
 
+/* Also: hl_world_emitters_boxes() holds every pixel the lamps were drawn into. */
 static void no_allocation_per_frame(void **state)
 {
 	(void)state;
@@ -366,6 +367,8 @@ static void no_allocation_per_frame(void **state)
 	struct hl_world_state st;
 	struct hl_camera cam;
 	struct hl_world_emitter e[32];
+	int boxes[32][4];
+	long drawn = 0;
 	uint8_t *rgb = calloc(3 * 160 * 90, 1);
 
 	snprintf(path, sizeof(path), "%s/scenarios/iihs-approach-curve-250m-left.json",
@@ -380,14 +383,31 @@ static void no_allocation_per_frame(void **state)
 	assert_int_equal(hl_gbuffer_new(160, 90, &gb), 0);
 	allocs = 0;
 	for (double t = 0.0; t < 6.0; t += 0.5) {
-		int n;
+		int n, nb;
 
 		hl_world_at(sc, t, &st);
 		assert_int_equal(hl_world_scene_render_rows(ws, &st, &cam, gb, 0, 45), 0);
 		assert_int_equal(hl_world_scene_render_rows(ws, &st, &cam, gb, 45, 45), 0);
 		n = hl_world_scene_emitters(ws, &st, &cam, e, 32);
+		/* on a black buffer: every pixel drawn lies in a box the boxes call names */
+		memset(rgb, 0, 160 * 90 * 3);
 		hl_world_emitters_draw(&cam, e, n, 0.0, rgb);
+		nb = hl_world_emitters_boxes(&cam, e, n, 0.0, boxes, 32);
+		for (int y = 0; y < 90; y++)
+			for (int x = 0; x < 160; x++) {
+				const uint8_t *px = rgb + 3 * (y * 160 + x);
+				bool in = false;
+
+				for (int k = 0; k < nb; k++)
+					in |= x >= boxes[k][0] && x <= boxes[k][2] &&
+					      y >= boxes[k][1] && y <= boxes[k][3];
+				if ((px[0] | px[1] | px[2]) && !in)
+					fail_msg("t %.1f: pixel %d,%d drawn outside every box", t,
+						 x, y);
+				drawn += (px[0] | px[1] | px[2]) != 0;
+			}
 	}
+	assert_true(drawn > 0); /* the car's lamps were drawn at some time */
 	if (HL_COUNT_ALLOCS)
 		assert_int_equal(allocs, 0);
 	allocs = -1;
