@@ -82,6 +82,7 @@ struct hl_pipeline {
 	struct hl_world_state world;
 	/* the moving scene's ray cast (a scenario): p->world into p->gb every frame; NULL: still */
 	struct hl_world_scene *ws;
+	struct hl_world_raster *raster; /* ws's frames into gb, remembering what each pixel was */
 	struct hl_world_emitter emitters[HL_SCN_MAX_ACTORS * HL_SCN_MAX_LAMPS];
 	enum hl_scene_source world_source;
 	int64_t world_pose_rx_ns; /* world_source pose: when that message arrived */
@@ -273,6 +274,8 @@ static int setup(struct hl_pipeline *p)
 			rc = hl_gbuffer_new(p->cfg.width, p->cfg.height, &p->gb);
 		if (rc == 0)
 			rc = hl_world_scene_render(p->ws, &p->world, &p->cam, p->gb);
+		if (rc == 0)
+			rc = hl_world_raster_new(p->ws, &p->cam, p->gb, &p->raster);
 	} else {
 		rc = hl_gbuffer_new(p->cfg.width, p->cfg.height, &p->gb);
 		if (rc == 0)
@@ -329,6 +332,7 @@ static void teardown(struct hl_pipeline *p)
 	p->r = NULL;
 	hl_gbuffer_free(p->gb);
 	p->gb = NULL;
+	hl_world_raster_free(p->raster);
 	hl_world_scene_free(p->ws);
 	p->ws = NULL;
 	hl_egl_free(p->egl);
@@ -448,6 +452,16 @@ static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int new
 _Static_assert(HL_FRAME_MAX_GLOW >= HL_SCN_MAX_ACTORS * HL_SCN_MAX_LAMPS,
 	       "a frame records the glow of every road user's lamp");
 
+/* The renderer's threads ray cast the moving scene band by band (hl_renderer_fill_fn). */
+static void world_fill(void *userdata, struct hl_gbuffer *gb, size_t first, size_t count,
+		       uint8_t *changed)
+{
+	const struct hl_pipeline *p = userdata;
+
+	(void)gb; /* the raster's */
+	hl_world_raster_pixels(p->raster, &p->world, first, count, changed);
+}
+
 /*
  * Blacks out the road users' lamps drawn when this pool buffer last held a frame: the display
  * pass rewrites only the pixels the ego lamps reach, and those are written again after this.
@@ -520,8 +534,7 @@ static void render(struct hl_pipeline *p)
 	pthread_mutex_unlock(&p->lock);
 	if (p->ws) {
 		/* the moving scene at the frame's instant: only what changed is lit anew */
-		hl_world_scene_render(p->ws, &p->world, &p->cam, p->gb);
-		hl_renderer_set_gbuffer(p->r, p->gb);
+		hl_renderer_set_gbuffer_fill(p->r, p->gb, world_fill, p);
 	}
 	if (f && p->view == HL_VIEW_DISPLAY) {
 		/* tone-mapped band by band while the band's illuminance is in the cache */

@@ -33,6 +33,13 @@ struct hl_renderer {
 	/* A moving scene (hl_renderer_set_gbuffer): the geometry as last lit, the next G-buffer. */
 	struct hl_gbuffer_diff *diff;
 	const struct hl_gbuffer *next_gb;
+	struct hl_gbuffer *fill_gb; /* next_gb, to be filled band by band by fill */
+	hl_renderer_fill_fn fill;
+	void *fill_userdata;
+	uint8_t *fill_changed; /* per pixel, as the fill said */
+	bool fill_all; /* the fill's frame recomputes every pixel */
+	const struct hl_gbuffer *lit_gb; /* the G-buffer of the last frame */
+	bool diff_stale; /* a fill's frame went by: diff's copy is not the G-buffer lit last */
 	bool diff_all; /* the next frame recomputes every pixel: diff knows no G-buffer yet */
 };
 
@@ -155,6 +162,7 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 	r->n_lamps = cfg->n_lamps;
 	r->width = gb->width;
 	r->height = gb->height;
+	r->lit_gb = gb;
 	r->combine = cfg->combine;
 	r->headlight = cfg->headlight;
 	if (!cfg->egl || hl_egl_software(cfg->egl)) {
@@ -249,6 +257,7 @@ void hl_renderer_free(struct hl_renderer *r)
 	hl_gl_headlight_free(r->gl_light);
 	hl_workers_free(r->workers);
 	hl_gbuffer_diff_free(r->diff);
+	free(r->fill_changed);
 	free(r);
 }
 
@@ -281,7 +290,8 @@ int hl_renderer_set_currents(struct hl_renderer *r, int k, const float *i)
 	return changed;
 }
 
-int hl_renderer_set_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb)
+/* What both ways of handing over a new G-buffer check and make room for. */
+static int take_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb)
 {
 	if (!gb || gb->width != r->width || gb->height != r->height)
 		return -EINVAL;
@@ -295,7 +305,57 @@ int hl_renderer_set_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb)
 		}
 	}
 	r->next_gb = gb;
+	r->fill = NULL;
 	return 0;
+}
+
+int hl_renderer_set_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb)
+{
+	const int rc = take_gbuffer(r, gb);
+
+	if (rc < 0)
+		return rc;
+	if (r->diff_stale) { /* the copy missed the fills' frames: compare nothing with it */
+		r->diff_all = true;
+		r->diff_stale = false;
+	}
+	return 0;
+}
+
+int hl_renderer_set_gbuffer_fill(struct hl_renderer *r, struct hl_gbuffer *gb,
+				 hl_renderer_fill_fn fill, void *userdata)
+{
+	const int rc = fill ? take_gbuffer(r, gb) : -EINVAL;
+
+	if (rc < 0)
+		return rc;
+	if (!r->fill_changed) {
+		r->fill_changed = malloc((size_t)r->width * r->height);
+		if (!r->fill_changed) {
+			r->next_gb = NULL;
+			return -ENOMEM;
+		}
+	}
+	/* the fill compares with what gb holds: the frame lit last, unless gb is another one */
+	r->fill_all = r->diff_all || gb != r->lit_gb;
+	r->fill_gb = gb;
+	r->fill = fill;
+	r->fill_userdata = userdata;
+	return 0;
+}
+
+/*
+ * Band first .. + count - 1 of a frame's new G-buffer filled, with its changed flags; false
+ * when the frame has no fill (then diff compares).
+ */
+static bool fill_band(const struct hl_renderer *r, size_t first, size_t count)
+{
+	if (!r->fill)
+		return false;
+	r->fill(r->fill_userdata, r->fill_gb, first, count, r->fill_changed);
+	if (r->fill_all)
+		memset(r->fill_changed + first, 1, count);
+	return true;
 }
 
 /* The CPU copy of lamp k's distribution, read back from GL when it changed there. */
@@ -327,6 +387,11 @@ static void update_band(const struct frame_job *j, size_t c)
 	size_t first, count;
 
 	hl_headlight_chunk_pixels(r->cpu_light, c, &first, &count);
+	if (fill_band(r, first, count)) {
+		if (memchr(r->fill_changed + first, 1, count))
+			hl_headlight_update_chunk(r->cpu_light, j->gb, c, r->fill_changed);
+		return;
+	}
 	if (hl_gbuffer_diff_band(r->diff, j->gb, first, count, r->diff_all) > 0)
 		hl_headlight_update_chunk(r->cpu_light, j->gb, c, hl_gbuffer_diff_flags(r->diff));
 }
@@ -363,10 +428,10 @@ static void diff_band(void *arg, size_t c)
 {
 	const struct frame_job *j = arg;
 	const size_t n = (size_t)j->r->width * j->r->height, first = c * GLES_BAND_PIXELS;
+	const size_t count = n - first < GLES_BAND_PIXELS ? n - first : GLES_BAND_PIXELS;
 
-	hl_gbuffer_diff_band(j->r->diff, j->gb, first,
-			     n - first < GLES_BAND_PIXELS ? n - first : GLES_BAND_PIXELS,
-			     j->r->diff_all);
+	if (!fill_band(j->r, first, count))
+		hl_gbuffer_diff_band(j->r->diff, j->gb, first, count, j->r->diff_all);
 }
 
 /* GLES, a new G-buffer: each run of rows with a changed pixel uploaded again. */
@@ -377,7 +442,7 @@ static int update_gl(struct hl_renderer *r, struct frame_job *j)
 	int y0 = -1;
 
 	hl_workers_run(r->workers, (n + GLES_BAND_PIXELS - 1) / GLES_BAND_PIXELS, diff_band, j);
-	changed = hl_gbuffer_diff_flags(r->diff);
+	changed = r->fill ? r->fill_changed : hl_gbuffer_diff_flags(r->diff);
 	for (int y = 0; y <= r->height; y++) {
 		const bool row = y < r->height &&
 				 memchr(changed + (size_t)y * r->width, 1, r->width) != NULL;
@@ -391,6 +456,16 @@ static int update_gl(struct hl_renderer *r, struct frame_job *j)
 		}
 	}
 	return 0;
+}
+
+/* A frame has lit its new G-buffer. */
+static void took_gbuffer(struct hl_renderer *r)
+{
+	r->lit_gb = r->next_gb;
+	r->diff_stale |= r->fill != NULL; /* the fill compared, not diff: its copy is old */
+	r->next_gb = NULL;
+	r->fill = NULL;
+	r->diff_all = false;
 }
 
 int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_pixels_fn pixels,
@@ -410,18 +485,18 @@ int hl_renderer_frame_pixels(struct hl_renderer *r, float *ret_lux, hl_renderer_
 		}
 		hl_workers_run(r->workers, hl_headlight_chunks(r->cpu_light),
 			       pixels ? light_band_lit : light_band, &j);
-		r->next_gb = NULL;
-		r->diff_all = false;
+		if (j.gb)
+			took_gbuffer(r);
 		return 0;
 	}
 	if (j.gb) {
 		rc = update_gl(r, &j);
 		if (rc < 0) {
+			r->fill = NULL;
 			r->diff_all = true; /* some rows may be missing: all again next time */
 			return rc;
 		}
-		r->next_gb = NULL;
-		r->diff_all = false;
+		took_gbuffer(r);
 	}
 	for (int k = 0; k < r->n_lamps; k++) {
 		if (r->gl_comb[k]) {

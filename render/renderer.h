@@ -28,6 +28,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "render/camera.h"
 #include "render/egl.h"
@@ -92,6 +93,26 @@ int hl_renderer_set_currents(struct hl_renderer *r, int k, const float *i);
  * scene. 0, -EINVAL, -ENOMEM.
  */
 int hl_renderer_set_gbuffer(struct hl_renderer *r, const struct hl_gbuffer *gb);
+
+/*
+ * Writes pixels first .. first + count - 1 of gb (row-major), as a ray cast of the moving
+ * scene does (render/world_scene.h), and sets changed[i] of each of them: 1 when the pixel's
+ * position, normal or hit/miss differ from what gb held there before (the rule of
+ * render/gbuffer_diff.h, bit for bit), else 0. Runs on the renderer's threads, several disjoint
+ * ranges at once.
+ */
+typedef void (*hl_renderer_fill_fn)(void *userdata, struct hl_gbuffer *gb, size_t first,
+				    size_t count, uint8_t *changed);
+/*
+ * As hl_renderer_set_gbuffer(), but the next frame fills gb itself, band by band, just before
+ * it lights each band (fill with userdata): the ray cast runs on all of the renderer's threads,
+ * the fill says which pixels changed (no comparison with a copy) and each band is lit while it
+ * is still in the cache. When gb is not the G-buffer the renderer lit last (or nothing is known
+ * yet) every pixel counts as changed. Every pixel is filled exactly once per frame. 0,
+ * -EINVAL, -ENOMEM.
+ */
+int hl_renderer_set_gbuffer_fill(struct hl_renderer *r, struct hl_gbuffer *gb,
+				 hl_renderer_fill_fn fill, void *userdata);
 
 /* One frame: combines what changed and lights the G-buffer into ret_lux (w * h floats). */
 int hl_renderer_frame(struct hl_renderer *r, float *ret_lux);

@@ -146,32 +146,6 @@ void hl_road_proj_init(const struct hl_road *road, struct hl_road_proj *ret)
 	ret->n = n;
 }
 
-/* Squared distance from (x, y) to part pp and the lateral offset d. */
-static double part_dist2(const struct hl_road_proj_part *pp, double x, double y, double *ret_d)
-{
-	if (!pp->arc) {
-		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
-		const double u = dx * pp->c + dy * pp->s, d = -dx * pp->s + dy * pp->c;
-		const double uc = u < pp->lo_m ? pp->lo_m : u > pp->hi_m ? pp->hi_m : u;
-
-		*ret_d = d;
-		return (u - uc) * (u - uc) + d * d;
-	}
-	const double vx = x - pp->cx_m, vy = y - pp->cy_m, r = sqrt(vx * vx + vy * vy);
-
-	*ret_d = pp->turn * (pp->r0_m - r);
-	/* Within the arc's sector: the angle from its middle at most half its sweep. */
-	if (vx * pp->mx + vy * pp->my >= r * pp->cos_half)
-		return *ret_d * *ret_d;
-	/* Beyond an end: the nearer end point is the nearest point of this arc. */
-	{
-		const double a = (x - pp->x0_m) * (x - pp->x0_m) + (y - pp->y0_m) * (y - pp->y0_m);
-		const double b = (x - pp->x1_m) * (x - pp->x1_m) + (y - pp->y1_m) * (y - pp->y1_m);
-
-		return a < b ? a : b;
-	}
-}
-
 int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, int hint,
 			 double *ret_d_m)
 {
@@ -180,7 +154,7 @@ int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, i
 
 	/* The hint first (neighbouring pixels share their part): the others are culled sooner. */
 	if (hint >= 0 && hint < p->n) {
-		best = part_dist2(&p->part[hint], x_m, y_m, &d);
+		best = hl_road_part_dist2(&p->part[hint], x_m, y_m, &d);
 		k = hint;
 		*ret_d_m = d;
 	}
@@ -198,7 +172,7 @@ int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, i
 			if (lb > 0.0 && lb * lb >= best)
 				continue;
 		}
-		dist2 = part_dist2(pp, x_m, y_m, &d);
+		dist2 = hl_road_part_dist2(pp, x_m, y_m, &d);
 		if (dist2 < best || (dist2 == best && i < k)) {
 			best = dist2;
 			k = i;
@@ -206,6 +180,30 @@ int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, i
 		}
 	}
 	return k;
+}
+
+/* Slack on the bounds for rounding (m): a candidate too many costs time, one too few a pixel. */
+#define CANDIDATE_SLACK_M 1e-6
+
+int hl_road_proj_candidates(const struct hl_road_proj *p, double ax, double ay, double bx,
+			    double by, int *ret)
+{
+	const double len = hypot(bx - ax, by - ay);
+	double lo[HL_SCN_MAX_SEGMENTS + 2], least_hi = INFINITY, d;
+	int n = 0;
+
+	for (int i = 0; i < p->n; i++) {
+		const double da = sqrt(hl_road_part_dist2(&p->part[i], ax, ay, &d));
+		const double db = sqrt(hl_road_part_dist2(&p->part[i], bx, by, &d));
+		const double hi = (da + db + len) / 2;
+
+		lo[i] = (da + db - len) / 2;
+		least_hi = hi < least_hi ? hi : least_hi;
+	}
+	for (int i = 0; i < p->n; i++)
+		if (lo[i] <= least_hi + CANDIDATE_SLACK_M * (1.0 + least_hi))
+			ret[n++] = i;
+	return n;
 }
 
 double hl_road_proj_s(const struct hl_road_proj *p, int part, double x_m, double y_m)

@@ -15,6 +15,7 @@
 #ifndef HL_RENDER_SCENARIO_GEOM_H
 #define HL_RENDER_SCENARIO_GEOM_H
 
+#include <math.h>
 #include <stdbool.h>
 
 #include "render/camera.h"
@@ -84,6 +85,78 @@ void hl_road_proj_init(const struct hl_road *road, struct hl_road_proj *ret);
  */
 int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, int hint,
 			 double *ret_d_m);
+/*
+ * The parts that can be nearest to some point of the segment (ax, ay)-(bx, by) (e.g. the
+ * ground points of a run of pixels in one image row, which lie on a line), in index order,
+ * into ret (room for p->n); returns how many (at least one). A distance is 1-Lipschitz: for a
+ * point q of the segment of length L, |D_i(q) - D_i(a)| <= |qa|, so D_i(q) >= (D_i(a) +
+ * D_i(b) - L) / 2 and D_i(q) <= (D_i(a) + D_i(b) + L) / 2; a part whose lower bound exceeds
+ * the least upper bound is never the nearest (nor tied with it).
+ */
+int hl_road_proj_candidates(const struct hl_road_proj *p, double ax, double ay, double bx,
+			    double by, int *ret);
+/* Squared distance from (x, y) to part pp and the lateral offset d (inline: per pixel). */
+static inline double hl_road_part_dist2(const struct hl_road_proj_part *pp, double x, double y,
+					double *ret_d)
+{
+	if (!pp->arc) {
+		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
+		const double u = dx * pp->c + dy * pp->s, d = -dx * pp->s + dy * pp->c;
+		const double uc = u < pp->lo_m ? pp->lo_m : u > pp->hi_m ? pp->hi_m : u;
+
+		*ret_d = d;
+		return (u - uc) * (u - uc) + d * d;
+	}
+	const double vx = x - pp->cx_m, vy = y - pp->cy_m, r = sqrt(vx * vx + vy * vy);
+
+	*ret_d = pp->turn * (pp->r0_m - r);
+	/* Within the arc's sector: the angle from its middle at most half its sweep. */
+	if (vx * pp->mx + vy * pp->my >= r * pp->cos_half)
+		return *ret_d * *ret_d;
+	/* Beyond an end: the nearer end point is the nearest point of this arc. */
+	{
+		const double a = (x - pp->x0_m) * (x - pp->x0_m) + (y - pp->y0_m) * (y - pp->y0_m);
+		const double b = (x - pp->x1_m) * (x - pp->x1_m) + (y - pp->y1_m) * (y - pp->y1_m);
+
+		return a < b ? a : b;
+	}
+}
+
+/*
+ * As hl_road_proj_lateral() among the parts cand[0 .. n_cand - 1] (index order) only: the
+ * same result for any point of the segment they were chosen for. Inline: a ray cast calls it
+ * per pixel.
+ */
+static inline int hl_road_proj_lateral_among(const struct hl_road_proj *p, const int *cand,
+					     int n_cand, double x_m, double y_m, int hint,
+					     double *ret_d_m)
+{
+	double best = INFINITY, d;
+	int k = -1;
+
+	for (int j = 0; j < n_cand; j++)
+		if (cand[j] == hint) {
+			best = hl_road_part_dist2(&p->part[hint], x_m, y_m, &d);
+			k = hint;
+			*ret_d_m = d;
+			break;
+		}
+	for (int j = 0; j < n_cand; j++) {
+		const int i = cand[j];
+		double dist2;
+
+		if (i == hint)
+			continue;
+		dist2 = hl_road_part_dist2(&p->part[i], x_m, y_m, &d);
+		if (dist2 < best || (dist2 == best && i < k)) {
+			best = dist2;
+			k = i;
+			*ret_d_m = d;
+		}
+	}
+	return k;
+}
+
 /* s of (x, y) on part (as hl_road_proj_lateral() returned it). */
 double hl_road_proj_s(const struct hl_road_proj *p, int part, double x_m, double y_m);
 /* Lateral offset of lane (1.. from the right edge)'s centre line from the road's centre. */

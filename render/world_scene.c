@@ -16,6 +16,7 @@
 #define EMITTER_HIDDEN_M 0.05 /* a body this much before a lamp hides it */
 #define GLOW_FLOOR 0.002 /* a disc is drawn out to where it adds this much before tone mapping */
 #define GLOW_MAX_PX 48
+#define RUN_PX 32 /* pixels of a row that share one choice of the road's candidate parts */
 
 struct hl_world_scene {
 	const struct hl_scenario *sc;
@@ -389,94 +390,300 @@ struct ego_xf {
 	double x, y, c, s;
 };
 
-static void ground(const struct hl_world_scene *ws, const struct ego_xf *xf, const double o[3],
-		   const double d[3], int *hint, struct hit *best)
-{
-	double t, px, py, wx, wy, dd, albedo = 0.0;
-	enum hl_surface id;
-	int k;
+/* The road's parts that can hold the ground points of a run of pixels (road coordinates). */
+struct parts {
+	int n, i[HL_SCN_MAX_SEGMENTS + 2];
+};
 
-	if (!(d[2] < 0.0) || o[2] <= 0.0)
-		return;
-	t = -o[2] / d[2];
-	px = o[0] + t * d[0];
-	py = o[1] + t * d[1];
-	wx = xf->x + px * xf->c - py * xf->s;
-	wy = xf->y + px * xf->s + py * xf->c;
-	k = hl_road_proj_lateral(&ws->proj, wx, wy, *hint, &dd);
-	*hint = k;
-	id = classify(&ws->sc->road, &ws->proj, k, wx, wy, dd, &albedo);
-	if (id == HL_SURF_NONE)
-		return;
-	*best = (struct hit){ t, { 0, 0, 1 }, id, albedo, true };
+/*
+ * One run of up to RUN_PX pixels of a row, first its rays and ground points all together (a
+ * fixed trip count and no branches: the compiler does them two or four at a time), then the
+ * road coordinates. The lateral offsets are those of hl_road_part_dist2(), bit for bit: the
+ * same expressions in the same order.
+ */
+struct run {
+	double d[3][RUN_PX]; /* the rays */
+	double t[RUN_PX], wx[RUN_PX], wy[RUN_PX]; /* where they meet the ground */
+	double lat[RUN_PX]; /* lateral offset on the road */
+	int part[RUN_PX]; /* the road's part it is measured on; -1: the ray misses the ground */
+};
+
+static void run_rays(const struct view *v, const struct ego_xf *xf, const double o[3], double sy,
+		     double tx, int col0, struct run *r)
+{
+	for (int c = 0; c < RUN_PX; c++) {
+		const double sx = (col0 + c + 0.5 - v->w / 2.0) * tx;
+		const double d0 = v->f[0] + sx * v->r[0] + sy * v->u[0];
+		const double d1 = v->f[1] + sx * v->r[1] + sy * v->u[1];
+		const double d2 = v->f[2] + sx * v->r[2] + sy * v->u[2];
+		const double t = -o[2] / d2, px = o[0] + t * d0, py = o[1] + t * d1;
+
+		r->d[0][c] = d0;
+		r->d[1][c] = d1;
+		r->d[2][c] = d2;
+		r->t[c] = t;
+		r->wx[c] = xf->x + px * xf->c - py * xf->s;
+		r->wy[c] = xf->y + px * xf->s + py * xf->c;
+	}
 }
 
-int hl_world_scene_render_rows(struct hl_world_scene *ws, const struct hl_world_state *st,
-			       const struct hl_camera *cam, struct hl_gbuffer *gb, int row0,
-			       int nrows)
+/* Lateral offsets of the run's first n pixels on the one part k (no other can be nearer). */
+static void run_lateral_one(const struct hl_road_proj *proj, int k, int n, struct run *r)
+{
+	const struct hl_road_proj_part *pp = &proj->part[k];
+
+	if (!pp->arc) {
+		for (int c = 0; c < RUN_PX; c++) {
+			const double dx = r->wx[c] - pp->x0_m, dy = r->wy[c] - pp->y0_m;
+
+			r->lat[c] = -dx * pp->s + dy * pp->c;
+		}
+	} else {
+		for (int c = 0; c < RUN_PX; c++) {
+			const double vx = r->wx[c] - pp->cx_m, vy = r->wy[c] - pp->cy_m;
+
+			r->lat[c] = pp->turn * (pp->r0_m - sqrt(vx * vx + vy * vy));
+		}
+	}
+	for (int c = 0; c < n; c++)
+		r->part[c] = k;
+}
+
+/*
+ * Rays, ground points and road coordinates of cols col0 .. col0 + n - 1. The ground points of
+ * a row's pixels lie on one line (the plane of their rays meets the ground in a line), between
+ * those of the run's ends when both ends' rays meet the ground (the rays between them then do
+ * too): the road's parts that can be nearest come from those two points.
+ */
+static void run_ground(const struct hl_world_scene *ws, const struct view *v,
+		       const struct ego_xf *xf, const double o[3], double sy, double tx, int col0,
+		       int n, int *hint, struct run *r)
+{
+	struct parts parts;
+	bool ends;
+
+	run_rays(v, xf, o, sy, tx, col0, r);
+	ends = o[2] > 0.0 && r->d[2][0] < 0.0 && r->d[2][n - 1] < 0.0;
+	if (ends) {
+		parts.n = hl_road_proj_candidates(&ws->proj, r->wx[0], r->wy[0], r->wx[n - 1],
+						  r->wy[n - 1], parts.i);
+		if (parts.n == 1) {
+			run_lateral_one(&ws->proj, parts.i[0], n, r);
+			*hint = parts.i[0];
+			return;
+		}
+	} else {
+		parts.n = ws->proj.n;
+		for (int i = 0; i < parts.n; i++)
+			parts.i[i] = i;
+	}
+	for (int c = 0; c < n; c++) {
+		r->part[c] = -1;
+		if (!(r->d[2][c] < 0.0) || o[2] <= 0.0)
+			continue;
+		r->part[c] = hl_road_proj_lateral_among(&ws->proj, parts.i, parts.n, r->wx[c],
+							r->wy[c], *hint, &r->lat[c]);
+		*hint = r->part[c];
+	}
+}
+
+/* The ground at pixel c of the run into best (nothing where the ground ends). */
+static void ground(const struct hl_world_scene *ws, const struct run *r, int c, struct hit *best)
+{
+	double albedo = 0.0;
+	enum hl_surface id;
+
+	if (r->part[c] < 0 || !(r->d[2][c] < 0.0))
+		return;
+	id = classify(&ws->sc->road, &ws->proj, r->part[c], r->wx[c], r->wy[c], r->lat[c], &albedo);
+	if (id == HL_SURF_NONE)
+		return;
+	*best = (struct hit){ r->t[c], { 0, 0, 1 }, id, albedo, true };
+}
+
+/* A raster's record of a pixel (struct hl_world_raster): not known yet, or the surface id. */
+#define MIRROR_UNKNOWN 0xff
+#define MIRROR_GROUND 0x80 /* or'ed into the id: the ground (its position and normal are fixed) */
+
+/*
+ * Pixels first .. + count - 1 into gb. With changed: whether each pixel's geometry changed
+ * (render/gbuffer_diff.h's rule). With mirror (a raster's: gb holds what the raster drew, and
+ * the camera is the raster's): a pixel of the ground that was the ground before with the same
+ * surface is left as it is, neither read nor written (its position and normal depend on the
+ * camera only, its albedo on the surface).
+ */
+static int render_range(struct hl_world_scene *ws, const struct hl_world_state *st,
+			const struct hl_camera *cam, struct hl_gbuffer *gb, size_t first,
+			size_t count, uint8_t *changed, uint8_t *mirror)
 {
 	struct object obs[HL_WORLD_MAX_OBJECTS];
 	int cur[HL_WORLD_MAX_OBJECTS];
 	struct view v;
 	int n;
 
-	if (cam->width != gb->width || cam->height != gb->height || row0 < 0 || nrows < 0 ||
-	    row0 + nrows > gb->height)
+	if (cam->width != gb->width || cam->height != gb->height ||
+	    first > (size_t)gb->width * gb->height ||
+	    count > (size_t)gb->width * gb->height - first)
 		return -EINVAL;
-	if (nrows == 0)
+	if (count == 0)
 		return 0;
 	const struct ego_xf xf = { st->ego.pos_m[0], st->ego.pos_m[1], cos(st->ego.heading_rad),
 				   sin(st->ego.heading_rad) };
+	const size_t w = gb->width, end = first + count;
+	const int row0 = (int)(first / w), row1 = (int)((end - 1) / w);
+	struct run run;
 	double tx, ty;
-	int hint = -1;
+	int hint = -1, run0 = 0;
 
 	view_init(cam, &v);
 	/* The ray through (x, y) is f + sx r + sy u, as hl_camera_ray(). */
 	ty = 1.0 / v.ky;
 	tx = 1.0 / v.kx;
-	n = gather(ws, st, &v, row0, row0 + nrows - 1, obs, HL_WORLD_MAX_OBJECTS);
-	for (int row = row0; row < row0 + nrows; row++) {
+	n = gather(ws, st, &v, row0, row1, obs, HL_WORLD_MAX_OBJECTS);
+	for (int row = row0; row <= row1; row++) {
 		const double sy = (v.h / 2.0 - (row + 0.5)) * ty;
+		const size_t row_first = (size_t)row * w;
+		const int c0 = row == row0 ? (int)(first - row_first) : 0;
+		const int c1 = row == row1 ? (int)(end - row_first) : (int)w;
 		int m = 0;
 
 		for (int k = 0; k < n; k++)
 			if (obs[k].row0 <= row && row <= obs[k].row1)
 				cur[m++] = k;
-		for (int col = 0; col < gb->width; col++) {
-			const size_t i = (size_t)row * gb->width + col;
+		for (int col = c0; col < c1; col++) {
+			const size_t i = row_first + col;
 			float *pos = gb->pos + 4 * i, *nrm = gb->nrm + 4 * i;
 			struct hit best = { INFINITY, { 0, 0, 0 }, HL_SURF_NONE, 0.0, false };
-			const double sx = (col + 0.5 - v.w / 2.0) * tx;
-			double d[3];
+			if (col == c0 || col % RUN_PX == 0) {
+				const int run_end = (col / RUN_PX + 1) * RUN_PX;
 
-			for (int j = 0; j < 3; j++)
-				d[j] = v.f[j] + sx * v.r[j] + sy * v.u[j];
-			ground(ws, &xf, cam->pos_m, d, &hint, &best);
+				run0 = col;
+				run_ground(ws, &v, &xf, cam->pos_m, sy, tx, col,
+					   (run_end < c1 ? run_end : c1) - col, &hint, &run);
+			}
+			const double d[3] = { run.d[0][col - run0], run.d[1][col - run0],
+					      run.d[2][col - run0] };
+
+			ground(ws, &run, col - run0, &best);
 			for (int k = 0; k < m; k++) {
 				const struct object *ob = &obs[cur[k]];
 
 				if (ob->col0 <= col && col <= ob->col1)
 					box_hit(ob, cam->pos_m, d, &best);
 			}
+			if (mirror && best.ground && mirror[i] != MIRROR_UNKNOWN &&
+			    (mirror[i] & MIRROR_GROUND)) {
+				const uint8_t now = MIRROR_GROUND | (uint8_t)best.id;
+
+				if (changed)
+					changed[i] = 0;
+				if (mirror[i] == now)
+					continue;
+				pos[3] = (float)best.albedo;
+				nrm[3] = (float)best.id;
+				gb->albedo[i] = pos[3];
+				mirror[i] = now;
+				continue;
+			}
+			if (mirror)
+				mirror[i] = (best.ground ? MIRROR_GROUND : 0) | (uint8_t)best.id;
+			const bool had = nrm[3] != (float)HL_SURF_NONE;
+
 			if (best.id == HL_SURF_NONE) {
 				memset(pos, 0, sizeof(float) * 4);
 				memset(nrm, 0, sizeof(float) * 4);
 				gb->albedo[i] = 0.0f;
+				if (changed)
+					changed[i] = had;
 				continue;
 			}
+			float np[3], nn[3];
+
 			for (int j = 0; j < 3; j++) {
-				pos[j] = (float)(cam->pos_m[j] + best.t * d[j]);
-				nrm[j] = (float)best.n[j];
+				np[j] = (float)(cam->pos_m[j] + best.t * d[j]);
+				nn[j] = (float)best.n[j];
 			}
 			/* The ground is exactly z = 0 (no rounding of t): its lamp terms stay put. */
 			if (best.ground)
-				pos[2] = 0.0f;
+				np[2] = 0.0f;
+			/* as render/gbuffer_diff.h: bit for bit, a hit now and not before, or moved */
+			if (changed)
+				changed[i] = !had || memcmp(np, pos, sizeof(np)) != 0 ||
+					     memcmp(nn, nrm, sizeof(nn)) != 0;
+			memcpy(pos, np, sizeof(np));
+			memcpy(nrm, nn, sizeof(nn));
 			pos[3] = (float)best.albedo;
 			nrm[3] = (float)best.id;
 			gb->albedo[i] = pos[3];
 		}
 	}
 	return 0;
+}
+
+int hl_world_scene_render_pixels(struct hl_world_scene *ws, const struct hl_world_state *st,
+				 const struct hl_camera *cam, struct hl_gbuffer *gb, size_t first,
+				 size_t count)
+{
+	return render_range(ws, st, cam, gb, first, count, NULL, NULL);
+}
+
+struct hl_world_raster {
+	struct hl_world_scene *ws;
+	struct hl_camera cam;
+	struct hl_gbuffer *gb;
+	uint8_t *mirror; /* per pixel: what the raster last drew there (MIRROR_*) */
+};
+
+int hl_world_raster_new(struct hl_world_scene *ws, const struct hl_camera *cam,
+			struct hl_gbuffer *gb, struct hl_world_raster **ret)
+{
+	struct hl_world_raster *r;
+
+	if (cam->width != gb->width || cam->height != gb->height)
+		return -EINVAL;
+	r = calloc(1, sizeof(*r));
+	if (!r)
+		return -ENOMEM;
+	r->mirror = malloc((size_t)gb->width * gb->height);
+	if (!r->mirror) {
+		free(r);
+		return -ENOMEM;
+	}
+	memset(r->mirror, MIRROR_UNKNOWN, (size_t)gb->width * gb->height);
+	r->ws = ws;
+	r->cam = *cam;
+	r->gb = gb;
+	*ret = r;
+	return 0;
+}
+
+void hl_world_raster_free(struct hl_world_raster *r)
+{
+	if (!r)
+		return;
+	free(r->mirror);
+	free(r);
+}
+
+struct hl_gbuffer *hl_world_raster_gbuffer(const struct hl_world_raster *r)
+{
+	return r->gb;
+}
+
+int hl_world_raster_pixels(struct hl_world_raster *r, const struct hl_world_state *st, size_t first,
+			   size_t count, uint8_t *changed)
+{
+	return render_range(r->ws, st, &r->cam, r->gb, first, count, changed, r->mirror);
+}
+
+int hl_world_scene_render_rows(struct hl_world_scene *ws, const struct hl_world_state *st,
+			       const struct hl_camera *cam, struct hl_gbuffer *gb, int row0,
+			       int nrows)
+{
+	if (row0 < 0 || nrows < 0 || row0 + nrows > gb->height)
+		return -EINVAL;
+	return render_range(ws, st, cam, gb, (size_t)row0 * gb->width, (size_t)nrows * gb->width,
+			    NULL, NULL);
 }
 
 int hl_world_scene_render(struct hl_world_scene *ws, const struct hl_world_state *st,

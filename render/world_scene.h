@@ -19,9 +19,9 @@
  * hl_world_emitters_draw() adds them to a display view as small discs carrying their
  * illuminance I / r^2 at the camera.
  *
- * Thread-safety: hl_world_scene_new()/_free() on one thread; hl_world_scene_render_rows() of
- * disjoint row bands may run on several threads at once for the same state and camera (each
- * call reads the state, the scenario and the camera and writes only its rows). Nothing here
+ * Thread-safety: hl_world_scene_new()/_free() on one thread; hl_world_scene_render_rows() or
+ * _render_pixels() of disjoint bands may run on several threads at once for the same state and
+ * camera (each call reads the state, the scenario and the camera and writes only its pixels). Nothing here
  * allocates after _new(); a band's call keeps its objects on the stack (about 64 KB).
  */
 #ifndef HL_RENDER_WORLD_SCENE_H
@@ -54,6 +54,35 @@ void hl_world_scene_free(struct hl_world_scene *ws);
 int hl_world_scene_render_rows(struct hl_world_scene *ws, const struct hl_world_state *st,
 			       const struct hl_camera *cam, struct hl_gbuffer *gb, int row0,
 			       int nrows);
+/*
+ * The same for pixels first .. first + count - 1 (row-major, row 0 at the top). 0, or -EINVAL.
+ */
+int hl_world_scene_render_pixels(struct hl_world_scene *ws, const struct hl_world_state *st,
+				 const struct hl_camera *cam, struct hl_gbuffer *gb, size_t first,
+				 size_t count);
+
+/*
+ * A sequence of frames of one camera into one G-buffer (hdlampd's moving scene): the raster
+ * remembers what it drew in each pixel, so a pixel of the ground that stays the same surface
+ * (most of them: in the ego frame the ground's pixels keep their position and normal, only the
+ * road's markings slide by) is neither read nor written again. gb must be written by nothing
+ * else while the raster lives. hl_world_raster_pixels() of disjoint ranges may run on several
+ * threads at once (hl_renderer_set_gbuffer_fill()); it also says for each pixel of the range
+ * whether its position, normal or hit/miss differ from what gb held before, bit for bit (1)
+ * or not (0), the rule of render/gbuffer_diff.h (changed: one byte per pixel of the image, may
+ * be NULL). The first frame writes every pixel. ws, cam's copy and gb must outlive the raster.
+ */
+struct hl_world_raster;
+
+/* 0, -EINVAL (cam's size is not gb's), -ENOMEM. */
+int hl_world_raster_new(struct hl_world_scene *ws, const struct hl_camera *cam,
+			struct hl_gbuffer *gb, struct hl_world_raster **ret);
+void hl_world_raster_free(struct hl_world_raster *r);
+struct hl_gbuffer *hl_world_raster_gbuffer(const struct hl_world_raster *r);
+/* Pixels first .. + count - 1 of the raster's G-buffer for the state st. 0, -EINVAL. */
+int hl_world_raster_pixels(struct hl_world_raster *r, const struct hl_world_state *st, size_t first,
+			   size_t count, uint8_t *changed);
+
 /* Every row. */
 int hl_world_scene_render(struct hl_world_scene *ws, const struct hl_world_state *st,
 			  const struct hl_camera *cam, struct hl_gbuffer *gb);

@@ -445,6 +445,97 @@ static void dynamic_gles_frames_match(void **state)
 	free(fresh);
 }
 
+/* A fill (hl_renderer_fill_fn) that copies src's pixels and says which changed, by the rule. */
+struct fill_src {
+	const struct hl_gbuffer *src;
+	size_t filled; /* pixels filled this frame (atomic: several threads) */
+};
+
+static void fill_copy(void *userdata, struct hl_gbuffer *gb, size_t first, size_t count,
+		      uint8_t *changed)
+{
+	struct fill_src *f = userdata;
+
+	for (size_t i = first; i < first + count; i++) {
+		const bool had = gb->nrm[4 * i + 3] != (float)HL_SURF_NONE;
+		const bool has = f->src->nrm[4 * i + 3] != (float)HL_SURF_NONE;
+		const bool moved = memcmp(gb->pos + 4 * i, f->src->pos + 4 * i, 12) != 0 ||
+				   memcmp(gb->nrm + 4 * i, f->src->nrm + 4 * i, 12) != 0;
+
+		changed[i] = had != has || (has && moved);
+		memcpy(gb->pos + 4 * i, f->src->pos + 4 * i, sizeof(float) * 4);
+		memcpy(gb->nrm + 4 * i, f->src->nrm + 4 * i, sizeof(float) * 4);
+		gb->albedo[i] = f->src->albedo[i];
+	}
+	__atomic_fetch_add(&f->filled, count, __ATOMIC_RELAXED);
+}
+
+/*
+ * hl_renderer_set_gbuffer_fill: the renderer fills the G-buffer band by band on its threads
+ * and relights what the fill says changed. Frames equal fresh renderers (CPU bit for bit; GLES
+ * bit for bit against fresh GLES), with fills and plain hand-overs mixed (the diff's copy is
+ * then stale and must not be trusted) and a fill into another G-buffer object (everything
+ * relit); every pixel is filled exactly once per frame.
+ */
+static void dynamic_fill_frames_equal_fresh_renderers(void **state)
+{
+	struct hl_gbuffer *live = NULL, *other = NULL;
+	float *lux = malloc(sizeof(float) * N_PIX), *fresh = malloc(sizeof(float) * N_PIX);
+	size_t frames = 0;
+
+	(void)state;
+	assert_non_null(ref[ROAD]);
+	assert_int_equal(hl_gbuffer_new(W, H, &live), 0);
+	assert_int_equal(hl_gbuffer_new(W, H, &other), 0);
+	for (size_t q = 0; q < N_SEQUENCES; q++) {
+		for (int v = 0; v < 3; v++) {
+			const enum hl_backend light = v == 2 ? HL_BACKEND_GLES : HL_BACKEND_CPU;
+			struct hl_renderer_config cfg;
+			struct hl_renderer *r = NULL;
+
+			copy_gbuffer(live, gbs[sequences[q][0]]);
+			config(&cfg, light, v != 1, 1 + (v & 1));
+			assert_int_equal(hl_renderer_new(&cfg, live, &r), 0);
+			assert_int_equal(hl_renderer_set_gbuffer_fill(r, live, NULL, NULL),
+					 -EINVAL);
+			set_high(r);
+			assert_int_equal(hl_renderer_frame(r, lux), 0);
+			for (int s = 1; sequences[q][s] >= 0; s++) {
+				const int scene = sequences[q][s];
+				struct fill_src f = { gbs[scene], 0 };
+				/* step 3 hands a plain G-buffer, step 4 fills another object, step 5
+				 * live again: both relight everything */
+				struct hl_gbuffer *gb = s == 4 ? other : live;
+
+				if (s == 3) {
+					copy_gbuffer(live, gbs[scene]);
+					assert_int_equal(hl_renderer_set_gbuffer(r, live), 0);
+				} else {
+					assert_int_equal(
+						hl_renderer_set_gbuffer_fill(r, gb, fill_copy, &f),
+						0);
+				}
+				assert_int_equal(hl_renderer_frame(r, lux), 0);
+				if (s != 3)
+					assert_int_equal(f.filled, N_PIX);
+				if (light == HL_BACKEND_CPU) {
+					assert_memory_equal(lux, ref[scene], sizeof(float) * N_PIX);
+				} else {
+					fresh_frame(gbs[scene], HL_BACKEND_GLES, fresh);
+					assert_memory_equal(lux, fresh, sizeof(float) * N_PIX);
+				}
+				frames++;
+			}
+			hl_renderer_free(r);
+		}
+	}
+	printf("%zu filled frames equal fresh renderers\n", frames);
+	hl_gbuffer_free(live);
+	hl_gbuffer_free(other);
+	free(lux);
+	free(fresh);
+}
+
 /*
  * No frame of a moving scene allocates: with config moving from the start, without it after
  * the first hl_renderer_set_gbuffer() (which makes the room).
@@ -513,6 +604,7 @@ int main(void)
 		cmocka_unit_test(dynamic_cpu_frames_equal_fresh_renderers),
 		cmocka_unit_test(dynamic_headlight_update_keeps_the_work_count),
 		cmocka_unit_test(dynamic_gles_frames_match),
+		cmocka_unit_test(dynamic_fill_frames_equal_fresh_renderers),
 		cmocka_unit_test(dynamic_frames_allocate_nothing),
 		cmocka_unit_test(dynamic_set_gbuffer_checks_the_size),
 	};

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "alloc_count.h"
+#include "render/gbuffer_diff.h"
 #include "render/scenario.h"
 #include "render/scenario_geom.h"
 #include "render/scene.h"
@@ -418,6 +419,84 @@ static void no_allocation_per_frame(void **state)
 	hl_scenario_free(sc);
 }
 
+/*
+ * A raster's frames (hl_world_raster_pixels, ranges cast out of order as the renderer's
+ * threads take them) equal full renders bit for bit at every instant, jumps back included, and
+ * its changed flags are exactly render/gbuffer_diff's between consecutive frames.
+ */
+static void raster_frames_equal_full_renders(void **state)
+{
+	(void)state;
+	static const double times[] = { 0.0, 0.02, 0.04, 1.5, 1.52, 3.0, 0.04, 5.9, 6.5 };
+	const int w = 320, h = 180;
+	const size_t n = (size_t)w * h, band = 7001; /* not a row's multiple */
+	char path[4096], buf[1024];
+	struct hl_scenario *sc = NULL;
+	struct hl_json_error err;
+	struct hl_world_scene *ws;
+	struct hl_world_raster *raster;
+	struct hl_gbuffer *gb, *ref;
+	struct hl_gbuffer_diff *diff;
+	struct hl_world_state st;
+	struct hl_camera cam;
+	uint8_t *changed = malloc(n);
+	size_t total_changed = 0;
+
+	snprintf(path, sizeof(path), "%s/scenarios/demo-drive.json", getenv("HL_SOURCE_DIR"));
+	if (hl_scenario_read(path, &sc, &err) < 0)
+		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
+	cam = sc->ego.camera;
+	cam.width = w;
+	cam.height = h;
+	assert_non_null(changed);
+	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
+	assert_int_equal(hl_gbuffer_new(w, h, &gb), 0);
+	assert_int_equal(hl_gbuffer_new(w, h, &ref), 0);
+	assert_int_equal(hl_world_raster_new(ws, &cam, gb, &raster), 0);
+	assert_ptr_equal(hl_world_raster_gbuffer(raster), gb);
+	for (size_t k = 0; k < sizeof(times) / sizeof(times[0]); k++) {
+		size_t n_diff;
+
+		hl_world_at(sc, times[k], &st);
+		assert_int_equal(hl_world_scene_render(ws, &st, &cam, ref), 0);
+		if (k == 0)
+			assert_int_equal(hl_gbuffer_diff_new(w, h, NULL, &diff), 0);
+		n_diff = hl_gbuffer_diff_band(diff, ref, 0, n, k == 0);
+		memset(changed, 0xee, n);
+		/* the bands from the last to the first */
+		for (size_t first = (n - 1) / band * band;; first -= band) {
+			const size_t count = n - first < band ? n - first : band;
+
+			assert_int_equal(hl_world_raster_pixels(raster, &st, first, count, changed),
+					 0);
+			if (first == 0)
+				break;
+		}
+		if (memcmp(gb->pos, ref->pos, sizeof(float) * 4 * n) != 0 ||
+		    memcmp(gb->nrm, ref->nrm, sizeof(float) * 4 * n) != 0 ||
+		    memcmp(gb->albedo, ref->albedo, sizeof(float) * n) != 0)
+			fail_msg("t %.2f: the raster's G-buffer differs from a full render",
+				 times[k]);
+		if (k > 0) {
+			if (memcmp(changed, hl_gbuffer_diff_flags(diff), n) != 0)
+				fail_msg("t %.2f: changed flags differ from gbuffer_diff's",
+					 times[k]);
+			total_changed += n_diff;
+		}
+	}
+	/* Not vacuous: things moved, and most of the ground did not. */
+	assert_true(total_changed > 100);
+	assert_true(total_changed < n * (sizeof(times) / sizeof(times[0])) / 2);
+	assert_int_equal(hl_world_raster_pixels(raster, &st, n - 10, 11, changed), -EINVAL);
+	hl_gbuffer_diff_free(diff);
+	hl_world_raster_free(raster);
+	hl_gbuffer_free(gb);
+	hl_gbuffer_free(ref);
+	hl_world_scene_free(ws);
+	hl_scenario_free(sc);
+	free(changed);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -428,6 +507,7 @@ int main(void)
 		cmocka_unit_test(emitters_facing_without_occlusion),
 		cmocka_unit_test(straight_iihs_ground_and_markings),
 		cmocka_unit_test(no_allocation_per_frame),
+		cmocka_unit_test(raster_frames_equal_full_renders),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
