@@ -22,6 +22,12 @@ struct hl_world_scene {
 	const struct hl_scenario *sc;
 	struct hl_road_proj proj; /* the road's parts, for the ground's road coordinates */
 	atomic_ulong objects_dropped;
+	/*
+	 * The lateral offsets where classify() can change its answer (edges, lines, the end of
+	 * the ground), and the dashed separators' centres (where the answer depends on s).
+	 */
+	int n_bounds, n_dashed;
+	double *bounds, *dashed;
 };
 
 /*
@@ -44,6 +50,44 @@ struct hit {
 	bool ground;
 };
 
+/* ws->bounds and ws->dashed from the road, as classify() reads it. 0 or -ENOMEM. */
+static int lateral_bounds(struct hl_world_scene *ws)
+{
+	const struct hl_road *road = &ws->sc->road;
+	const double half = hl_road_half_width(road), ew = road->edge_line_width_m;
+	const int lanes = road->lanes > 1 ? road->lanes : 1;
+	double *b = malloc(sizeof(double) * (8 + 2 * lanes));
+	double *dc = malloc(sizeof(double) * lanes);
+	int n = 0, nd = 0;
+
+	if (!b || !dc) {
+		free(b);
+		free(dc);
+		return -ENOMEM;
+	}
+	for (int side = -1; side <= 1; side += 2) {
+		b[n++] = side * HL_WORLD_GROUND_HALF_M;
+		b[n++] = side * half;
+		if (road->edge != HL_MARK_NONE) {
+			b[n++] = side * (half - ew - ew / 2);
+			b[n++] = side * (half - ew + ew / 2);
+		}
+	}
+	for (int i = 1; road->separator != HL_MARK_NONE && i < road->lanes; i++) {
+		const double c = -half + i * road->lane_width_m;
+
+		b[n++] = c - road->separator_line_width_m / 2;
+		b[n++] = c + road->separator_line_width_m / 2;
+		if (road->separator == HL_MARK_DASHED)
+			dc[nd++] = c;
+	}
+	ws->bounds = b;
+	ws->n_bounds = n;
+	ws->dashed = dc;
+	ws->n_dashed = nd;
+	return 0;
+}
+
 int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret)
 {
 	struct hl_world_scene *ws = calloc(1, sizeof(*ws));
@@ -52,6 +96,10 @@ int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret
 		return -ENOMEM;
 	ws->sc = sc;
 	hl_road_proj_init(&sc->road, &ws->proj);
+	if (lateral_bounds(ws) < 0) {
+		hl_world_scene_free(ws);
+		return -ENOMEM;
+	}
 	atomic_init(&ws->objects_dropped, 0);
 	*ret = ws;
 	return 0;
@@ -59,6 +107,10 @@ int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret
 
 void hl_world_scene_free(struct hl_world_scene *ws)
 {
+	if (!ws)
+		return;
+	free(ws->bounds);
+	free(ws->dashed);
 	free(ws);
 }
 
@@ -406,6 +458,9 @@ struct run {
 	double t[RUN_PX], wx[RUN_PX], wy[RUN_PX]; /* where they meet the ground */
 	double lat[RUN_PX]; /* lateral offset on the road */
 	int part[RUN_PX]; /* the road's part it is measured on; -1: the ray misses the ground */
+	bool uniform; /* every pixel of the run is the same ground: id, albedo */
+	enum hl_surface id;
+	double albedo;
 };
 
 static void run_rays(const struct view *v, const struct ego_xf *xf, const double o[3], double sy,
@@ -449,6 +504,35 @@ static void run_lateral_one(const struct hl_road_proj *proj, int k, int n, struc
 		r->part[c] = k;
 }
 
+/* Slack for rounding (m) when a run's offsets are judged to lie between two bounds. */
+#define UNIFORM_SLACK_M 1e-6
+
+/*
+ * Whether the run's first n pixels (all on the ground, on one part) are one surface: their
+ * lateral offsets lie between two neighbouring bounds of classify() and not on a dashed line
+ * (where s decides). Then classify()'s answer for the first is every pixel's.
+ */
+static void run_uniform(const struct hl_world_scene *ws, int n, struct run *r)
+{
+	double lo = r->lat[0], hi = r->lat[0];
+
+	for (int c = 1; c < n; c++) {
+		lo = r->lat[c] < lo ? r->lat[c] : lo;
+		hi = r->lat[c] > hi ? r->lat[c] : hi;
+	}
+	for (int k = 0; k < ws->n_bounds; k++)
+		if (ws->bounds[k] >= lo - UNIFORM_SLACK_M && ws->bounds[k] <= hi + UNIFORM_SLACK_M)
+			return;
+	for (int k = 0; k < ws->n_dashed; k++)
+		if (fabs(r->lat[0] - ws->dashed[k]) <=
+		    ws->sc->road.separator_line_width_m / 2 + UNIFORM_SLACK_M)
+			return;
+	r->albedo = 0.0;
+	r->id = classify(&ws->sc->road, &ws->proj, r->part[0], r->wx[0], r->wy[0], r->lat[0],
+			 &r->albedo);
+	r->uniform = true;
+}
+
 /*
  * Rays, ground points and road coordinates of cols col0 .. col0 + n - 1. The ground points of
  * a row's pixels lie on one line (the plane of their rays meets the ground in a line), between
@@ -462,6 +546,7 @@ static void run_ground(const struct hl_world_scene *ws, const struct view *v,
 	struct parts parts;
 	bool ends;
 
+	r->uniform = false;
 	run_rays(v, xf, o, sy, tx, col0, r);
 	ends = o[2] > 0.0 && r->d[2][0] < 0.0 && r->d[2][n - 1] < 0.0;
 	if (ends) {
@@ -470,6 +555,7 @@ static void run_ground(const struct hl_world_scene *ws, const struct view *v,
 		if (parts.n == 1) {
 			run_lateral_one(&ws->proj, parts.i[0], n, r);
 			*hint = parts.i[0];
+			run_uniform(ws, n, r);
 			return;
 		}
 	} else {
@@ -495,6 +581,11 @@ static void ground(const struct hl_world_scene *ws, const struct run *r, int c, 
 
 	if (r->part[c] < 0 || !(r->d[2][c] < 0.0))
 		return;
+	if (r->uniform) {
+		if (r->id != HL_SURF_NONE)
+			*best = (struct hit){ r->t[c], { 0, 0, 1 }, r->id, r->albedo, true };
+		return;
+	}
 	id = classify(&ws->sc->road, &ws->proj, r->part[c], r->wx[c], r->wy[c], r->lat[c], &albedo);
 	if (id == HL_SURF_NONE)
 		return;
@@ -510,7 +601,7 @@ static void ground(const struct hl_world_scene *ws, const struct run *r, int c, 
  * (render/gbuffer_diff.h's rule). With mirror (a raster's: gb holds what the raster drew, and
  * the camera is the raster's): a pixel of the ground that was the ground before with the same
  * surface is left as it is, neither read nor written (its position and normal depend on the
- * camera only, its albedo on the surface).
+ * camera only, its albedo on the surface), and so is one that hit nothing before and now.
  */
 static int render_range(struct hl_world_scene *ws, const struct hl_world_state *st,
 			const struct hl_camera *cam, struct hl_gbuffer *gb, size_t first,
@@ -583,6 +674,11 @@ static int render_range(struct hl_world_scene *ws, const struct hl_world_state *
 				nrm[3] = (float)best.id;
 				gb->albedo[i] = pos[3];
 				mirror[i] = now;
+				continue;
+			}
+			if (mirror && best.id == HL_SURF_NONE && mirror[i] == HL_SURF_NONE) {
+				if (changed) /* nothing before and now: all zero, as it is */
+					changed[i] = 0;
 				continue;
 			}
 			if (mirror)
