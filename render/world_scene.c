@@ -482,55 +482,89 @@ static void run_rays(const struct view *v, const struct ego_xf *xf, const double
 	}
 }
 
-/* Lateral offsets of the run's first n pixels on the one part k (no other can be nearer). */
-static void run_lateral_one(const struct hl_road_proj *proj, int k, int n, struct run *r)
+/* The lateral offset of (x, y) on part pp: hl_road_part_dist2()'s, the same expressions. */
+static inline double part_lat(const struct hl_road_proj_part *pp, double x, double y)
 {
-	const struct hl_road_proj_part *pp = &proj->part[k];
+	if (!pp->arc) {
+		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
+
+		return -dx * pp->s + dy * pp->c;
+	}
+	const double vx = x - pp->cx_m, vy = y - pp->cy_m;
+
+	return pp->turn * (pp->r0_m - sqrt(vx * vx + vy * vy));
+}
+
+/* Lateral offsets of the run's pixels on the one part pp (no other can be nearer). */
+static void run_lateral_one(const struct hl_road_proj_part *pp, struct run *r)
+{
+	if (!pp->arc) {
+		for (int c = 0; c < RUN_PX; c++)
+			r->lat[c] = part_lat(pp, r->wx[c], r->wy[c]);
+	} else {
+		for (int c = 0; c < RUN_PX; c++)
+			r->lat[c] = part_lat(pp, r->wx[c], r->wy[c]);
+	}
+}
+
+/*
+ * The least and greatest lateral offset on part pp of the run's first n ground points, from
+ * its ends alone: the points lie on the segment between the ends' (up to rounding, far below
+ * UNIFORM_SLACK_M). On a straight part the offset is affine along it; on an arc it is the
+ * distance from the centre, greatest at an end and least at an end or the foot of the
+ * perpendicular from the centre.
+ */
+static void lat_range(const struct hl_road_proj_part *pp, const struct run *r, int n, double *lo,
+		      double *hi)
+{
+	const double ax = r->wx[0], ay = r->wy[0], bx = r->wx[n - 1], by = r->wy[n - 1];
 
 	if (!pp->arc) {
-		for (int c = 0; c < RUN_PX; c++) {
-			const double dx = r->wx[c] - pp->x0_m, dy = r->wy[c] - pp->y0_m;
+		const double la = part_lat(pp, ax, ay), lb = part_lat(pp, bx, by);
 
-			r->lat[c] = -dx * pp->s + dy * pp->c;
-		}
-	} else {
-		for (int c = 0; c < RUN_PX; c++) {
-			const double vx = r->wx[c] - pp->cx_m, vy = r->wy[c] - pp->cy_m;
-
-			r->lat[c] = pp->turn * (pp->r0_m - sqrt(vx * vx + vy * vy));
-		}
+		*lo = la < lb ? la : lb;
+		*hi = la < lb ? lb : la;
+		return;
 	}
-	for (int c = 0; c < n; c++)
-		r->part[c] = k;
+	const double vax = ax - pp->cx_m, vay = ay - pp->cy_m, ex = bx - ax, ey = by - ay;
+	const double vbx = bx - pp->cx_m, vby = by - pp->cy_m;
+	const double da = sqrt(vax * vax + vay * vay), db = sqrt(vbx * vbx + vby * vby);
+	const double len2 = ex * ex + ey * ey;
+	double u = len2 > 0.0 ? -(vax * ex + vay * ey) / len2 : 0.0, dmin, dmax;
+
+	u = u < 0.0 ? 0.0 : u > 1.0 ? 1.0 : u;
+	const double fx = vax + u * ex, fy = vay + u * ey;
+
+	dmin = sqrt(fx * fx + fy * fy);
+	dmin = fmin(dmin, fmin(da, db));
+	dmax = fmax(da, db);
+	*lo = pp->turn > 0 ? pp->r0_m - dmax : dmin - pp->r0_m;
+	*hi = pp->turn > 0 ? pp->r0_m - dmin : dmax - pp->r0_m;
 }
 
 /* Slack for rounding (m) when a run's offsets are judged to lie between two bounds. */
 #define UNIFORM_SLACK_M 1e-6
 
 /*
- * Whether the run's first n pixels (all on the ground, on one part) are one surface: their
- * lateral offsets lie between two neighbouring bounds of classify() and not on a dashed line
- * (where s decides). Then classify()'s answer for the first is every pixel's.
+ * Whether the run's pixels (all on the ground, on part k, lateral offsets within lo .. hi)
+ * are one surface: the offsets lie between two neighbouring bounds of classify() and not on a
+ * dashed line (where s decides). Then classify()'s answer for the first (offset lat0) is every
+ * pixel's.
  */
-static void run_uniform(const struct hl_world_scene *ws, int n, struct run *r)
+static bool run_uniform(const struct hl_world_scene *ws, int k, double lo, double hi, double lat0,
+			struct run *r)
 {
-	double lo = r->lat[0], hi = r->lat[0];
-
-	for (int c = 1; c < n; c++) {
-		lo = r->lat[c] < lo ? r->lat[c] : lo;
-		hi = r->lat[c] > hi ? r->lat[c] : hi;
-	}
-	for (int k = 0; k < ws->n_bounds; k++)
-		if (ws->bounds[k] >= lo - UNIFORM_SLACK_M && ws->bounds[k] <= hi + UNIFORM_SLACK_M)
-			return;
-	for (int k = 0; k < ws->n_dashed; k++)
-		if (fabs(r->lat[0] - ws->dashed[k]) <=
+	for (int b = 0; b < ws->n_bounds; b++)
+		if (ws->bounds[b] >= lo - UNIFORM_SLACK_M && ws->bounds[b] <= hi + UNIFORM_SLACK_M)
+			return false;
+	for (int b = 0; b < ws->n_dashed; b++)
+		if (fabs(lat0 - ws->dashed[b]) <=
 		    ws->sc->road.separator_line_width_m / 2 + UNIFORM_SLACK_M)
-			return;
+			return false;
 	r->albedo = 0.0;
-	r->id = classify(&ws->sc->road, &ws->proj, r->part[0], r->wx[0], r->wy[0], r->lat[0],
-			 &r->albedo);
+	r->id = classify(&ws->sc->road, &ws->proj, k, r->wx[0], r->wy[0], lat0, &r->albedo);
 	r->uniform = true;
+	return true;
 }
 
 /*
@@ -553,9 +587,16 @@ static void run_ground(const struct hl_world_scene *ws, const struct view *v,
 		parts.n = hl_road_proj_candidates(&ws->proj, r->wx[0], r->wy[0], r->wx[n - 1],
 						  r->wy[n - 1], parts.i);
 		if (parts.n == 1) {
-			run_lateral_one(&ws->proj, parts.i[0], n, r);
-			*hint = parts.i[0];
-			run_uniform(ws, n, r);
+			const int k = parts.i[0];
+			const struct hl_road_proj_part *pp = &ws->proj.part[k];
+			double lo, hi;
+
+			*hint = k;
+			for (int c = 0; c < n; c++)
+				r->part[c] = k;
+			lat_range(pp, r, n, &lo, &hi);
+			if (!run_uniform(ws, k, lo, hi, part_lat(pp, r->wx[0], r->wy[0]), r))
+				run_lateral_one(pp, r);
 			return;
 		}
 	} else {
@@ -595,6 +636,34 @@ static void ground(const struct hl_world_scene *ws, const struct run *r, int c, 
 /* A raster's record of a pixel (struct hl_world_raster): not known yet, or the surface id. */
 #define MIRROR_UNKNOWN 0xff
 #define MIRROR_GROUND 0x80 /* or'ed into the id: the ground (its position and normal are fixed) */
+
+/*
+ * Whether a raster's run of len pixels (from column col, its record at mirror) is what it was
+ * and needs nothing written: no body or post reaches into its columns, and it is all sky as
+ * before, or all one surface of the ground (r->uniform) as before.
+ */
+static bool run_settled(const struct run *r, const double o[3], int len, const uint8_t *mirror,
+			const struct object *obs, const int *cur, int m, int col)
+{
+	uint8_t want;
+	bool sky = true;
+
+	for (int k = 0; k < m; k++)
+		if (obs[cur[k]].col0 < col + len && obs[cur[k]].col1 >= col)
+			return false;
+	for (int c = 0; c < len; c++)
+		sky &= !(r->d[2][c] < 0.0) || o[2] <= 0.0;
+	if (sky)
+		want = HL_SURF_NONE;
+	else if (r->uniform)
+		want = r->id == HL_SURF_NONE ? HL_SURF_NONE : MIRROR_GROUND | (uint8_t)r->id;
+	else
+		return false;
+	for (int c = 0; c < len; c++)
+		if (mirror[c] != want)
+			return false;
+	return true;
+}
 
 /*
  * Pixels first .. + count - 1 into gb. With changed: whether each pixel's geometry changed
@@ -647,10 +716,17 @@ static int render_range(struct hl_world_scene *ws, const struct hl_world_state *
 			struct hit best = { INFINITY, { 0, 0, 0 }, HL_SURF_NONE, 0.0, false };
 			if (col == c0 || col % RUN_PX == 0) {
 				const int run_end = (col / RUN_PX + 1) * RUN_PX;
+				const int len = (run_end < c1 ? run_end : c1) - col;
 
 				run0 = col;
-				run_ground(ws, &v, &xf, cam->pos_m, sy, tx, col,
-					   (run_end < c1 ? run_end : c1) - col, &hint, &run);
+				run_ground(ws, &v, &xf, cam->pos_m, sy, tx, col, len, &hint, &run);
+				if (mirror && run_settled(&run, cam->pos_m, len, mirror + i, obs,
+							  cur, m, col)) {
+					if (changed)
+						memset(changed + i, 0, len);
+					col += len - 1;
+					continue;
+				}
 			}
 			const double d[3] = { run.d[0][col - run0], run.d[1][col - run0],
 					      run.d[2][col - run0] };
