@@ -1,7 +1,8 @@
 """hdlamp render --scenario: the shipped IIHS-like approaches (straight, 250 m left curve) at
 several times. The oncoming car's pixels (the difference to the same scenario without it) lie
 where the test projects its body from the road geometry and grow as it approaches; its
-headlamps light up the display view; no frame is black or uniform; stills match references.
+headlamps light up the display view; no frame is black or uniform; the approaches as
+sequences (display and lux) match references.
 
 HL_UPDATE_REFS=1 rewrites the references in tests/data/render-ref/scenario/ (look at them
 first)."""
@@ -161,24 +162,39 @@ def test_oncoming_car_moves_as_predicted(lamps, tmp_path, name):
     assert widths[-1] > widths[0]
 
 
+SEQUENCE = (1.5, 5.5, 1.0)  # the reference sequences: 1.5, 2.5, 3.5, 4.5, 5.5 s
+
+
 @pytest.mark.parametrize("view", ["display", "lux"])
 @pytest.mark.parametrize("name", list(SCENARIOS))
-def test_still_matches_reference(lamps, tmp_path, name, view):
-    ref_name = f"{name}_{view}_t4.png"
-    out = tmp_path / ref_name
-    r = render(lamps, scenario_path(name), out, "--at", "4", "--view", view)
-    assert r.stdout.strip() == str(out)
-    img = read_png(out)
-    assert img.shape == (H, W, 3)
-    assert_not_blank(img, ref_name)
-    ref_path = os.path.join(REFS, ref_name)
-    if os.environ.get("HL_UPDATE_REFS"):
-        os.makedirs(REFS, exist_ok=True)
-        shutil.copy(out, ref_path)
-    ref = read_png(ref_path)
-    d = np.abs(img.astype(int) - ref.astype(int)).max(axis=2)
-    assert d.mean() <= 0.5 and (d > 24).mean() <= 0.002, \
-        f"{ref_name}: mean diff {d.mean():.2f}, {100 * (d > 24).mean():.2f} % pixels off"
+def test_sequence_matches_reference(lamps, tmp_path, name, view):
+    """The approach as a sequence: every frame not blank, each differs from the one before (the
+    car and the ego's light move), and each matches its reference within a tolerance."""
+    a, b, step = SEQUENCE
+    tag = f"{name}_{view}"
+    r = render(lamps, scenario_path(name), tmp_path / f"{tag}.png", "--frames",
+               f"{a}:{b}:{step}", "--view", view)
+    paths = r.stdout.split()
+    times = [a + k * step for k in range(int(round((b - a) / step)) + 1)]
+    assert len(paths) == len(times)
+    prev = None
+    for t, path in zip(times, paths):
+        ref_name = f"{tag}_t{t:.1f}.png"
+        img = read_png(path)
+        assert img.shape == (H, W, 3)
+        assert_not_blank(img, ref_name)
+        if prev is not None:
+            moved = np.abs(img.astype(int) - prev.astype(int)).max(axis=2) > 8
+            assert moved.sum() > 20, f"{ref_name}: the same as the frame before"
+        prev = img
+        ref_path = os.path.join(REFS, ref_name)
+        if os.environ.get("HL_UPDATE_REFS"):
+            os.makedirs(REFS, exist_ok=True)
+            shutil.copy(path, ref_path)
+        ref = read_png(ref_path)
+        d = np.abs(img.astype(int) - ref.astype(int)).max(axis=2)
+        assert d.mean() <= 0.5 and (d > 24).mean() <= 0.002, \
+            f"{ref_name}: mean diff {d.mean():.2f}, {100 * (d > 24).mean():.2f} % pixels off"
 
 
 def test_bird_and_lux_exr(lamps, tmp_path):
