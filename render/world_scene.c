@@ -10,26 +10,19 @@
 
 #include "render/pixel.h"
 #include "render/scenario_geom.h"
+#include "render/world_ground.h"
 #include "render/scene_layout.h"
 
 #define NEAR_M 1e-3 /* corners nearer the camera plane than this: the box may cover any pixel */
 #define EMITTER_HIDDEN_M 0.05 /* a body this much before a lamp hides it */
 #define GLOW_FLOOR 0.002 /* a disc is drawn out to where it adds this much before tone mapping */
 #define GLOW_MAX_PX 48
-#define RUN_PX 32 /* pixels of a row that share one choice of the road's candidate parts */
 
 struct hl_world_scene {
 	const struct hl_scenario *sc;
-	struct hl_road_proj proj; /* the road's parts, for the ground's road coordinates */
+	struct hl_ground ground; /* the road's surfaces */
 	atomic_ulong objects_dropped;
-	/*
-	 * The lateral offsets where classify() can change its answer (edges, lines, the end of
-	 * the ground), and the dashed separators' centres (where the answer depends on s).
-	 */
-	int n_bounds, n_dashed;
-	double *bounds, *dashed;
 };
-
 /*
  * A box in the ego frame: its own frame's origin o and heading (c, s of the angle from ego +x),
  * extents lo..hi in that frame; the rows and columns of the image it may cover.
@@ -50,44 +43,6 @@ struct hit {
 	bool ground;
 };
 
-/* ws->bounds and ws->dashed from the road, as classify() reads it. 0 or -ENOMEM. */
-static int lateral_bounds(struct hl_world_scene *ws)
-{
-	const struct hl_road *road = &ws->sc->road;
-	const double half = hl_road_half_width(road), ew = road->edge_line_width_m;
-	const int lanes = road->lanes > 1 ? road->lanes : 1;
-	double *b = malloc(sizeof(double) * (8 + 2 * lanes));
-	double *dc = malloc(sizeof(double) * lanes);
-	int n = 0, nd = 0;
-
-	if (!b || !dc) {
-		free(b);
-		free(dc);
-		return -ENOMEM;
-	}
-	for (int side = -1; side <= 1; side += 2) {
-		b[n++] = side * HL_WORLD_GROUND_HALF_M;
-		b[n++] = side * half;
-		if (road->edge != HL_MARK_NONE) {
-			b[n++] = side * (half - ew - ew / 2);
-			b[n++] = side * (half - ew + ew / 2);
-		}
-	}
-	for (int i = 1; road->separator != HL_MARK_NONE && i < road->lanes; i++) {
-		const double c = -half + i * road->lane_width_m;
-
-		b[n++] = c - road->separator_line_width_m / 2;
-		b[n++] = c + road->separator_line_width_m / 2;
-		if (road->separator == HL_MARK_DASHED)
-			dc[nd++] = c;
-	}
-	ws->bounds = b;
-	ws->n_bounds = n;
-	ws->dashed = dc;
-	ws->n_dashed = nd;
-	return 0;
-}
-
 int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret)
 {
 	struct hl_world_scene *ws = calloc(1, sizeof(*ws));
@@ -95,9 +50,8 @@ int hl_world_scene_new(const struct hl_scenario *sc, struct hl_world_scene **ret
 	if (!ws)
 		return -ENOMEM;
 	ws->sc = sc;
-	hl_road_proj_init(&sc->road, &ws->proj);
-	if (lateral_bounds(ws) < 0) {
-		hl_world_scene_free(ws);
+	if (hl_ground_init(&sc->road, &ws->ground) < 0) {
+		free(ws);
 		return -ENOMEM;
 	}
 	atomic_init(&ws->objects_dropped, 0);
@@ -109,8 +63,7 @@ void hl_world_scene_free(struct hl_world_scene *ws)
 {
 	if (!ws)
 		return;
-	free(ws->bounds);
-	free(ws->dashed);
+	hl_ground_free(&ws->ground);
 	free(ws);
 }
 
@@ -393,246 +346,6 @@ static void box_hit(const struct object *ob, const double o[3], const double d[3
 	best->ground = false;
 }
 
-static bool near_line(double d, double centre, double width)
-{
-	return fabs(d - centre) <= width / 2;
-}
-
-/*
- * What the ground is at (x, y) (world) with lateral offset d on part k of the road: s is
- * computed only where a dashed line needs it.
- */
-static enum hl_surface classify(const struct hl_road *road, const struct hl_road_proj *proj, int k,
-				double x, double y, double d, double *albedo)
-{
-	const double half = hl_road_half_width(road), ad = fabs(d);
-
-	if (ad > half) {
-		if (ad > HL_WORLD_GROUND_HALF_M)
-			return HL_SURF_NONE;
-		*albedo = HL_ALBEDO_SHOULDER;
-		return HL_SURF_SHOULDER;
-	}
-	*albedo = HL_ALBEDO_MARKING;
-	/* Edge lines: their outer border one line width inside the edge, as the road scene's. */
-	if (road->edge != HL_MARK_NONE &&
-	    near_line(ad, half - road->edge_line_width_m, road->edge_line_width_m))
-		return HL_SURF_MARKING;
-	if (road->separator != HL_MARK_NONE) {
-		for (int i = 1; i < road->lanes; i++) {
-			const double c = -half + i * road->lane_width_m;
-			const double period = road->dash_m + road->gap_m;
-			double s;
-
-			if (!near_line(d, c, road->separator_line_width_m))
-				continue;
-			if (road->separator == HL_MARK_SOLID)
-				return HL_SURF_MARKING;
-			s = hl_road_proj_s(proj, k, x, y);
-			if (s - period * floor(s / period) < road->dash_m)
-				return HL_SURF_MARKING;
-		}
-	}
-	*albedo = HL_ALBEDO_ROAD;
-	return HL_SURF_ROAD;
-}
-
-/* The ego pose's rotation, once per band. */
-struct ego_xf {
-	double x, y, c, s;
-};
-
-/* The road's parts that can hold the ground points of a run of pixels (road coordinates). */
-struct parts {
-	int n, i[HL_SCN_MAX_SEGMENTS + 2];
-};
-
-/*
- * One run of up to RUN_PX pixels of a row, first its rays and ground points all together (a
- * fixed trip count and no branches: the compiler does them two or four at a time), then the
- * road coordinates. The lateral offsets are those of hl_road_part_dist2(), bit for bit: the
- * same expressions in the same order.
- */
-struct run {
-	double d[3][RUN_PX]; /* the rays */
-	double t[RUN_PX], wx[RUN_PX], wy[RUN_PX]; /* where they meet the ground */
-	double lat[RUN_PX]; /* lateral offset on the road */
-	int part[RUN_PX]; /* the road's part it is measured on; -1: the ray misses the ground */
-	bool uniform; /* every pixel of the run is the same ground: id, albedo */
-	enum hl_surface id;
-	double albedo;
-};
-
-static void run_rays(const struct view *v, const struct ego_xf *xf, const double o[3], double sy,
-		     double tx, int col0, struct run *r)
-{
-	for (int c = 0; c < RUN_PX; c++) {
-		const double sx = (col0 + c + 0.5 - v->w / 2.0) * tx;
-		const double d0 = v->f[0] + sx * v->r[0] + sy * v->u[0];
-		const double d1 = v->f[1] + sx * v->r[1] + sy * v->u[1];
-		const double d2 = v->f[2] + sx * v->r[2] + sy * v->u[2];
-		const double t = -o[2] / d2, px = o[0] + t * d0, py = o[1] + t * d1;
-
-		r->d[0][c] = d0;
-		r->d[1][c] = d1;
-		r->d[2][c] = d2;
-		r->t[c] = t;
-		r->wx[c] = xf->x + px * xf->c - py * xf->s;
-		r->wy[c] = xf->y + px * xf->s + py * xf->c;
-	}
-}
-
-/* The lateral offset of (x, y) on part pp: hl_road_part_dist2()'s, the same expressions. */
-static inline double part_lat(const struct hl_road_proj_part *pp, double x, double y)
-{
-	if (!pp->arc) {
-		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
-
-		return -dx * pp->s + dy * pp->c;
-	}
-	const double vx = x - pp->cx_m, vy = y - pp->cy_m;
-
-	return pp->turn * (pp->r0_m - sqrt(vx * vx + vy * vy));
-}
-
-/* Lateral offsets of the run's pixels on the one part pp (no other can be nearer). */
-static void run_lateral_one(const struct hl_road_proj_part *pp, struct run *r)
-{
-	if (!pp->arc) {
-		for (int c = 0; c < RUN_PX; c++)
-			r->lat[c] = part_lat(pp, r->wx[c], r->wy[c]);
-	} else {
-		for (int c = 0; c < RUN_PX; c++)
-			r->lat[c] = part_lat(pp, r->wx[c], r->wy[c]);
-	}
-}
-
-/*
- * The least and greatest lateral offset on part pp of the run's first n ground points, from
- * its ends alone: the points lie on the segment between the ends' (up to rounding, far below
- * UNIFORM_SLACK_M). On a straight part the offset is affine along it; on an arc it is the
- * distance from the centre, greatest at an end and least at an end or the foot of the
- * perpendicular from the centre.
- */
-static void lat_range(const struct hl_road_proj_part *pp, const struct run *r, int n, double *lo,
-		      double *hi)
-{
-	const double ax = r->wx[0], ay = r->wy[0], bx = r->wx[n - 1], by = r->wy[n - 1];
-
-	if (!pp->arc) {
-		const double la = part_lat(pp, ax, ay), lb = part_lat(pp, bx, by);
-
-		*lo = la < lb ? la : lb;
-		*hi = la < lb ? lb : la;
-		return;
-	}
-	const double vax = ax - pp->cx_m, vay = ay - pp->cy_m, ex = bx - ax, ey = by - ay;
-	const double vbx = bx - pp->cx_m, vby = by - pp->cy_m;
-	const double da = sqrt(vax * vax + vay * vay), db = sqrt(vbx * vbx + vby * vby);
-	const double len2 = ex * ex + ey * ey;
-	double u = len2 > 0.0 ? -(vax * ex + vay * ey) / len2 : 0.0, dmin, dmax;
-
-	u = u < 0.0 ? 0.0 : u > 1.0 ? 1.0 : u;
-	const double fx = vax + u * ex, fy = vay + u * ey;
-
-	dmin = sqrt(fx * fx + fy * fy);
-	dmin = fmin(dmin, fmin(da, db));
-	dmax = fmax(da, db);
-	*lo = pp->turn > 0 ? pp->r0_m - dmax : dmin - pp->r0_m;
-	*hi = pp->turn > 0 ? pp->r0_m - dmin : dmax - pp->r0_m;
-}
-
-/* Slack for rounding (m) when a run's offsets are judged to lie between two bounds. */
-#define UNIFORM_SLACK_M 1e-6
-
-/*
- * Whether the run's pixels (all on the ground, on part k, lateral offsets within lo .. hi)
- * are one surface: the offsets lie between two neighbouring bounds of classify() and not on a
- * dashed line (where s decides). Then classify()'s answer for the first (offset lat0) is every
- * pixel's.
- */
-static bool run_uniform(const struct hl_world_scene *ws, int k, double lo, double hi, double lat0,
-			struct run *r)
-{
-	for (int b = 0; b < ws->n_bounds; b++)
-		if (ws->bounds[b] >= lo - UNIFORM_SLACK_M && ws->bounds[b] <= hi + UNIFORM_SLACK_M)
-			return false;
-	for (int b = 0; b < ws->n_dashed; b++)
-		if (fabs(lat0 - ws->dashed[b]) <=
-		    ws->sc->road.separator_line_width_m / 2 + UNIFORM_SLACK_M)
-			return false;
-	r->albedo = 0.0;
-	r->id = classify(&ws->sc->road, &ws->proj, k, r->wx[0], r->wy[0], lat0, &r->albedo);
-	r->uniform = true;
-	return true;
-}
-
-/*
- * Rays, ground points and road coordinates of cols col0 .. col0 + n - 1. The ground points of
- * a row's pixels lie on one line (the plane of their rays meets the ground in a line), between
- * those of the run's ends when both ends' rays meet the ground (the rays between them then do
- * too): the road's parts that can be nearest come from those two points.
- */
-static void run_ground(const struct hl_world_scene *ws, const struct view *v,
-		       const struct ego_xf *xf, const double o[3], double sy, double tx, int col0,
-		       int n, int *hint, struct run *r)
-{
-	struct parts parts;
-	bool ends;
-
-	r->uniform = false;
-	run_rays(v, xf, o, sy, tx, col0, r);
-	ends = o[2] > 0.0 && r->d[2][0] < 0.0 && r->d[2][n - 1] < 0.0;
-	if (ends) {
-		parts.n = hl_road_proj_candidates(&ws->proj, r->wx[0], r->wy[0], r->wx[n - 1],
-						  r->wy[n - 1], parts.i);
-		if (parts.n == 1) {
-			const int k = parts.i[0];
-			const struct hl_road_proj_part *pp = &ws->proj.part[k];
-			double lo, hi;
-
-			*hint = k;
-			for (int c = 0; c < n; c++)
-				r->part[c] = k;
-			lat_range(pp, r, n, &lo, &hi);
-			if (!run_uniform(ws, k, lo, hi, part_lat(pp, r->wx[0], r->wy[0]), r))
-				run_lateral_one(pp, r);
-			return;
-		}
-	} else {
-		parts.n = ws->proj.n;
-		for (int i = 0; i < parts.n; i++)
-			parts.i[i] = i;
-	}
-	for (int c = 0; c < n; c++) {
-		r->part[c] = -1;
-		if (!(r->d[2][c] < 0.0) || o[2] <= 0.0)
-			continue;
-		r->part[c] = hl_road_proj_lateral_among(&ws->proj, parts.i, parts.n, r->wx[c],
-							r->wy[c], *hint, &r->lat[c]);
-		*hint = r->part[c];
-	}
-}
-
-/* The ground at pixel c of the run into best (nothing where the ground ends). */
-static void ground(const struct hl_world_scene *ws, const struct run *r, int c, struct hit *best)
-{
-	double albedo = 0.0;
-	enum hl_surface id;
-
-	if (r->part[c] < 0 || !(r->d[2][c] < 0.0))
-		return;
-	if (r->uniform) {
-		if (r->id != HL_SURF_NONE)
-			*best = (struct hit){ r->t[c], { 0, 0, 1 }, r->id, r->albedo, true };
-		return;
-	}
-	id = classify(&ws->sc->road, &ws->proj, r->part[c], r->wx[c], r->wy[c], r->lat[c], &albedo);
-	if (id == HL_SURF_NONE)
-		return;
-	*best = (struct hit){ r->t[c], { 0, 0, 1 }, id, albedo, true };
-}
-
 /* A raster's record of a pixel (struct hl_world_raster): not known yet, or the surface id. */
 #define MIRROR_UNKNOWN 0xff
 #define MIRROR_GROUND 0x80 /* or'ed into the id: the ground (its position and normal are fixed) */
@@ -642,18 +355,16 @@ static void ground(const struct hl_world_scene *ws, const struct run *r, int c, 
  * and needs nothing written: no body or post reaches into its columns, and it is all sky as
  * before, or all one surface of the ground (r->uniform) as before.
  */
-static bool run_settled(const struct run *r, const double o[3], int len, const uint8_t *mirror,
-			const struct object *obs, const int *cur, int m, int col)
+static bool run_settled(const struct hl_ground_view *gv, const struct hl_ground_run *r, int len,
+			const uint8_t *mirror, const struct object *obs, const int *cur, int m,
+			int col)
 {
 	uint8_t want;
-	bool sky = true;
 
 	for (int k = 0; k < m; k++)
 		if (obs[cur[k]].col0 < col + len && obs[cur[k]].col1 >= col)
 			return false;
-	for (int c = 0; c < len; c++)
-		sky &= !(r->d[2][c] < 0.0) || o[2] <= 0.0;
-	if (sky)
+	if (hl_ground_run_sky(gv, r, len))
 		want = HL_SURF_NONE;
 	else if (r->uniform)
 		want = r->id == HL_SURF_NONE ? HL_SURF_NONE : MIRROR_GROUND | (uint8_t)r->id;
@@ -687,11 +398,12 @@ static int render_range(struct hl_world_scene *ws, const struct hl_world_state *
 		return -EINVAL;
 	if (count == 0)
 		return 0;
-	const struct ego_xf xf = { st->ego.pos_m[0], st->ego.pos_m[1], cos(st->ego.heading_rad),
-				   sin(st->ego.heading_rad) };
+	const struct hl_ground_pose pose = { st->ego.pos_m[0], st->ego.pos_m[1],
+					     cos(st->ego.heading_rad), sin(st->ego.heading_rad) };
 	const size_t w = gb->width, end = first + count;
 	const int row0 = (int)(first / w), row1 = (int)((end - 1) / w);
-	struct run run;
+	struct hl_ground_view gv;
+	struct hl_ground_run run;
 	double tx, ty;
 	int hint = -1, run0 = 0;
 
@@ -699,6 +411,12 @@ static int render_range(struct hl_world_scene *ws, const struct hl_world_state *
 	/* The ray through (x, y) is f + sx r + sy u, as hl_camera_ray(). */
 	ty = 1.0 / v.ky;
 	tx = 1.0 / v.kx;
+	memcpy(gv.o, cam->pos_m, sizeof(gv.o));
+	memcpy(gv.f, v.f, sizeof(gv.f));
+	memcpy(gv.r, v.r, sizeof(gv.r));
+	memcpy(gv.u, v.u, sizeof(gv.u));
+	gv.half_w = v.w / 2.0;
+	gv.tx = tx;
 	n = gather(ws, st, &v, row0, row1, obs, HL_WORLD_MAX_OBJECTS);
 	for (int row = row0; row <= row1; row++) {
 		const double sy = (v.h / 2.0 - (row + 0.5)) * ty;
@@ -714,14 +432,14 @@ static int render_range(struct hl_world_scene *ws, const struct hl_world_state *
 			const size_t i = row_first + col;
 			float *pos = gb->pos + 4 * i, *nrm = gb->nrm + 4 * i;
 			struct hit best = { INFINITY, { 0, 0, 0 }, HL_SURF_NONE, 0.0, false };
-			if (col == c0 || col % RUN_PX == 0) {
-				const int run_end = (col / RUN_PX + 1) * RUN_PX;
+			if (col == c0 || col % HL_GROUND_RUN_PX == 0) {
+				const int run_end = (col / HL_GROUND_RUN_PX + 1) * HL_GROUND_RUN_PX;
 				const int len = (run_end < c1 ? run_end : c1) - col;
 
 				run0 = col;
-				run_ground(ws, &v, &xf, cam->pos_m, sy, tx, col, len, &hint, &run);
-				if (mirror && run_settled(&run, cam->pos_m, len, mirror + i, obs,
-							  cur, m, col)) {
+				hl_ground_run(&ws->ground, &gv, &pose, sy, col, len, &hint, &run);
+				if (mirror &&
+				    run_settled(&gv, &run, len, mirror + i, obs, cur, m, col)) {
 					if (changed)
 						memset(changed + i, 0, len);
 					col += len - 1;
@@ -731,7 +449,13 @@ static int render_range(struct hl_world_scene *ws, const struct hl_world_state *
 			const double d[3] = { run.d[0][col - run0], run.d[1][col - run0],
 					      run.d[2][col - run0] };
 
-			ground(ws, &run, col - run0, &best);
+			enum hl_surface gid;
+			double galb;
+
+			if (hl_ground_hit(&ws->ground, &run, col - run0, &gid, &galb))
+				best = (struct hit){
+					run.t[col - run0], { 0, 0, 1 }, gid, galb, true
+				};
 			for (int k = 0; k < m; k++) {
 				const struct object *ob = &obs[cur[k]];
 

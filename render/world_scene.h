@@ -34,8 +34,8 @@
 #include "render/scenario.h"
 #include "render/scene.h"
 #include "render/world.h"
+#include "render/world_ground.h" /* HL_WORLD_GROUND_HALF_M */
 
-#define HL_WORLD_GROUND_HALF_M 40.0 /* the ground ends this far from the road's centre line */
 #define HL_WORLD_POST_RANGE_M 600.0 /* posts farther along the road than this are not drawn */
 #define HL_WORLD_MAX_OBJECTS 512 /* bodies and posts one row band can see */
 #define HL_WORLD_POST_SIDE_M 0.12 /* a post's square cross-section, as the road scene's */

@@ -356,6 +356,91 @@ static void straight_iihs_ground_and_markings(void **state)
 	hl_scenario_free(sc);
 }
 
+/*
+ * The 250 m left curve (50 m straight, then the arc about (50, 250)) from the moving ego: every
+ * ground pixel classed as the test computes from the ray's world point in closed form (runs of
+ * one surface and the road's candidate parts are exact), at several instants.
+ */
+static void curve_ground_matches_closed_form(void **state)
+{
+	(void)state;
+	char path[4096], buf[1024];
+	struct hl_scenario *sc = NULL;
+	struct hl_json_error err;
+	struct hl_world_scene *ws;
+	struct hl_gbuffer *gb;
+	struct hl_world_state st;
+	struct hl_camera cam;
+	const int w = 640, h = 360;
+	int counts[16] = { 0 }, checked = 0;
+
+	snprintf(path, sizeof(path), "%s/scenarios/iihs-approach-curve-250m-left.json",
+		 getenv("HL_SOURCE_DIR"));
+	if (hl_scenario_read(path, &sc, &err) < 0)
+		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
+	cam = sc->ego.camera;
+	cam.width = w;
+	cam.height = h;
+	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
+	assert_int_equal(hl_gbuffer_new(w, h, &gb), 0);
+	for (double t = 0.0; t < 6.0; t += 1.9) {
+		hl_world_at(sc, t, &st);
+		assert_int_equal(hl_world_scene_render(ws, &st, &cam, gb), 0);
+		for (int row = 0; row < h; row++)
+			for (int col = 0; col < w; col++) {
+				const size_t i = (size_t)row * w + col;
+				const int id = (int)gb->nrm[4 * i + 3];
+				const double hc = cos(st.ego.heading_rad),
+					     hs = sin(st.ego.heading_rad);
+				double d[3], tt, x, y, wx, wy, s_road, d_road, phi, r, d_str;
+				bool amb;
+				int want;
+
+				hl_camera_ray(&cam, col + 0.5, row + 0.5, d);
+				if (!(d[2] < 0.0) || id == HL_SURF_POST || id == HL_SURF_VEHICLE)
+					continue;
+				tt = -cam.pos_m[2] / d[2];
+				x = cam.pos_m[0] + tt * d[0];
+				y = cam.pos_m[1] + tt * d[1];
+				wx = st.ego.pos_m[0] + x * hc - y * hs;
+				wy = st.ego.pos_m[1] + x * hs + y * hc;
+				/* the straight up to x = 50, the arc beyond (nearest part, closed form) */
+				phi = atan2(wx - 50.0, 250.0 - wy);
+				r = hypot(wx - 50.0, wy - 250.0);
+				d_str = wx <= 50.0 ? fabs(wy) : hypot(wx - 50.0, wy);
+				if (wx <= 50.0) {
+					s_road = wx;
+					d_road = wy;
+				} else {
+					s_road = 50.0 + 250.0 * phi;
+					d_road = 250.0 - r;
+				}
+				/* near the junction, the arc's far end or a tie: not judged */
+				if (fabs(wx - 50.0) < 0.5 || phi > 1.5 ||
+				    (wx > 50.0 && fabs(d_str - fabs(d_road)) < 1e-3))
+					continue;
+				want = expected_ground(s_road, d_road, &amb);
+				if (amb)
+					continue;
+				if (id != want)
+					fail_msg(
+						"t %.1f pixel (%d, %d): ground (%.3f, %.3f) s %.3f d "
+						"%.3f: id %d, want %d",
+						t, col, row, wx, wy, s_road, d_road, id, want);
+				counts[id]++;
+				checked++;
+			}
+	}
+	/* Not vacuous: every class seen in numbers, most pixels judged. */
+	assert_true(counts[HL_SURF_ROAD] > 30000);
+	assert_true(counts[HL_SURF_MARKING] > 1500);
+	assert_true(counts[HL_SURF_SHOULDER] > 3000);
+	assert_true(checked > w * h);
+	hl_gbuffer_free(gb);
+	hl_world_scene_free(ws);
+	hl_scenario_free(sc);
+}
+
 /* Also: hl_world_emitters_boxes() holds every pixel the lamps were drawn into. */
 static void no_allocation_per_frame(void **state)
 {
@@ -506,6 +591,7 @@ int main(void)
 		cmocka_unit_test(emitters_face_and_hide),
 		cmocka_unit_test(emitters_facing_without_occlusion),
 		cmocka_unit_test(straight_iihs_ground_and_markings),
+		cmocka_unit_test(curve_ground_matches_closed_form),
 		cmocka_unit_test(no_allocation_per_frame),
 		cmocka_unit_test(raster_frames_equal_full_renders),
 	};
