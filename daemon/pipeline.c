@@ -268,6 +268,7 @@ static int setup(struct hl_pipeline *p)
 		p->cam.height = p->cfg.height;
 		memcpy(poses, p->sc->ego.lamp, sizeof(poses));
 		rc_cfg.moving = true;
+		rc_cfg.fill_only = true; /* the raster says what changed (render/world_scene.h) */
 		hl_world_at(p->sc, 0.0, &p->world);
 		rc = hl_world_scene_new(p->sc, &p->ws);
 		if (rc == 0)

@@ -232,7 +232,8 @@ int hl_renderer_new(const struct hl_renderer_config *cfg, const struct hl_gbuffe
 	for (int k = 0; r->gl_light && k < r->n_lamps; k++)
 		r->dirty[k] = true;
 	if (cfg->moving) {
-		rc = make_moving(r, gb);
+		/* fill_only: no copy, so the first frame relights every pixel (diff_all) */
+		rc = make_moving(r, cfg->fill_only ? NULL : gb);
 		if (rc < 0)
 			goto err_free;
 	}

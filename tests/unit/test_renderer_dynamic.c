@@ -474,7 +474,7 @@ static void fill_copy(void *userdata, struct hl_gbuffer *gb, size_t first, size_
  * hl_renderer_set_gbuffer_fill: the renderer fills the G-buffer band by band on its threads
  * and relights what the fill says changed. Frames equal fresh renderers (CPU bit for bit; GLES
  * bit for bit against fresh GLES), with fills and plain hand-overs mixed (the diff's copy is
- * then stale and must not be trusted) and a fill into another G-buffer object (everything
+ * then stale and must not be trusted; with fill_only it never held anything) and a fill into another G-buffer object (everything
  * relit); every pixel is filled exactly once per frame.
  */
 static void dynamic_fill_frames_equal_fresh_renderers(void **state)
@@ -488,13 +488,15 @@ static void dynamic_fill_frames_equal_fresh_renderers(void **state)
 	assert_int_equal(hl_gbuffer_new(W, H, &live), 0);
 	assert_int_equal(hl_gbuffer_new(W, H, &other), 0);
 	for (size_t q = 0; q < N_SEQUENCES; q++) {
-		for (int v = 0; v < 3; v++) {
+		/* CPU moving, CPU not moving on 2 threads, GLES moving, CPU fill_only on 2 */
+		for (int v = 0; v < 4; v++) {
 			const enum hl_backend light = v == 2 ? HL_BACKEND_GLES : HL_BACKEND_CPU;
 			struct hl_renderer_config cfg;
 			struct hl_renderer *r = NULL;
 
 			copy_gbuffer(live, gbs[sequences[q][0]]);
 			config(&cfg, light, v != 1, 1 + (v & 1));
+			cfg.fill_only = v == 3;
 			assert_int_equal(hl_renderer_new(&cfg, live, &r), 0);
 			assert_int_equal(hl_renderer_set_gbuffer_fill(r, live, NULL, NULL),
 					 -EINVAL);
@@ -503,11 +505,15 @@ static void dynamic_fill_frames_equal_fresh_renderers(void **state)
 			for (int s = 1; sequences[q][s] >= 0; s++) {
 				const int scene = sequences[q][s];
 				struct fill_src f = { gbs[scene], 0 };
-				/* step 3 hands a plain G-buffer, step 4 fills another object, step 5
-				 * live again: both relight everything */
+				/*
+				 * step 3 (with fill_only step 1, before any fill) hands a plain
+				 * G-buffer, step 4 fills another object, step 5 live again: both
+				 * relight everything
+				 */
+				const int plain = v == 3 ? 1 : 3;
 				struct hl_gbuffer *gb = s == 4 ? other : live;
 
-				if (s == 3) {
+				if (s == plain) {
 					copy_gbuffer(live, gbs[scene]);
 					assert_int_equal(hl_renderer_set_gbuffer(r, live), 0);
 				} else {
@@ -516,7 +522,7 @@ static void dynamic_fill_frames_equal_fresh_renderers(void **state)
 						0);
 				}
 				assert_int_equal(hl_renderer_frame(r, lux), 0);
-				if (s != 3)
+				if (s != plain)
 					assert_int_equal(f.filled, N_PIX);
 				if (light == HL_BACKEND_CPU) {
 					assert_memory_equal(lux, ref[scene], sizeof(float) * N_PIX);

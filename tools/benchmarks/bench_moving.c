@@ -149,7 +149,8 @@ static int time_frames(struct run *x, enum hl_backend light, int threads, bool m
 					  .headlight = light,
 					  .egl = x->egl,
 					  .threads = threads,
-					  .moving = moving };
+					  .moving = moving,
+					  .fill_only = moving }; /* as hdlampd's moving scene */
 	struct scene *s = x->scene;
 	struct display_job j = { s->gb, x->rgb };
 	const size_t n = (size_t)s->gb->width * s->gb->height;
