@@ -42,6 +42,7 @@ struct hl_restbus {
 	int64_t last_deadline_idx[HL_RESTBUS_MAX_MESSAGES];
 	double jitter_sum_ms[HL_RESTBUS_MAX_MESSAGES];
 	int64_t retry_at_ns;
+	bool logged_down; /* the interface's failure is logged once until it opens */
 
 	pthread_mutex_t lock; /* PI; guards c, held only to update or copy it */
 	struct hl_restbus_counts c;
@@ -328,8 +329,15 @@ static void socket_upkeep(struct hl_restbus *rb, int64_t now_ns)
 		rc = hl_can_socket_open(rb->sock);
 		if (rc < 0) {
 			rb->retry_at_ns = now_ns + hl_can_socket_retry_ms(rb->sock) * MS_NS;
+			if (rb->cfg.log && !rb->logged_down)
+				fprintf(rb->cfg.log,
+					"hdlampd: restbus: '%s': %s; retrying, the frames due "
+					"meanwhile counted as link_down\n",
+					rb->iface, strerror(-rc));
+			rb->logged_down = true;
 			return;
 		}
+		rb->logged_down = false;
 		if (rb->cfg.log)
 			fprintf(rb->cfg.log, "hdlampd: restbus: '%s': open\n", rb->iface);
 	}
@@ -342,6 +350,7 @@ static void socket_upkeep(struct hl_restbus *rb, int64_t now_ns)
 	}
 	if (rc < 0) {
 		rb->retry_at_ns = now_ns + hl_can_socket_retry_ms(rb->sock) * MS_NS;
+		rb->logged_down = true;
 		if (rb->cfg.log)
 			fprintf(rb->cfg.log, "hdlampd: restbus: '%s': %s, reopening\n", rb->iface,
 				strerror(-rc));
