@@ -48,7 +48,7 @@ struct hl_restbus {
 	struct hl_restbus_counts c;
 };
 
-static void unlock_free(struct hl_restbus *rb)
+static void free_parts(struct hl_restbus *rb)
 {
 	hl_can_socket_free(rb->sock);
 	hl_inputs_map_free(rb->map);
@@ -144,7 +144,7 @@ int hl_restbus_new(const struct hl_restbus_config *cfg, struct hl_restbus **ret,
 	return 0;
 
 err_free:
-	unlock_free(rb);
+	free_parts(rb);
 	return rc;
 }
 
@@ -388,7 +388,10 @@ int hl_restbus_start(struct hl_restbus *rb, int64_t t0_ns)
 {
 	int rc;
 
-	rb->t0_ns = t0_ns;
+	rb->t0_ns = t0_ns; /* the thread's, read before it starts */
+	pthread_mutex_lock(&rb->lock);
+	rb->c.t0_ns = t0_ns;
+	pthread_mutex_unlock(&rb->lock);
 	rc = pthread_create(&rb->thread, NULL, thread_main, rb);
 	if (rc)
 		return -rc;
@@ -411,7 +414,7 @@ void hl_restbus_free(struct hl_restbus *rb)
 		return;
 	hl_restbus_stop(rb);
 	pthread_mutex_destroy(&rb->lock);
-	unlock_free(rb);
+	free_parts(rb);
 }
 
 void hl_restbus_counts(struct hl_restbus *rb, struct hl_restbus_counts *ret)
@@ -454,7 +457,7 @@ void hl_restbus_status_json(struct hl_restbus *rb, FILE *f)
 		",\"unseen\":{\"behind\":%" PRIu64 ",\"beyond_range\":%" PRIu64
 		",\"outside_fov\":%" PRIu64 ",\"over_max\":%" PRIu64 "},"
 		"\"messages\":[",
-		rb->t0_ns, c.sock.open ? "true" : "false", hl_can_bus_state_name(c.sock.bus),
+		c.t0_ns, c.sock.open ? "true" : "false", hl_can_bus_state_name(c.sock.bus),
 		c.sock.bus_off, c.sock.error_frames, c.vehicle_cycles, c.camera_cycles, c.overruns,
 		c.tx_full, c.tx_errors, c.encode_errors, c.link_down, c.foreign_frames,
 		c.objects_sent, c.unseen_behind, c.unseen_beyond_range, c.unseen_outside_fov,

@@ -66,6 +66,7 @@ struct hl_restbus_message_counts {
 };
 
 struct hl_restbus_counts {
+	int64_t t0_ns; /* CLOCK_MONOTONIC of scenario time 0; 0 before the start */
 	int n_messages;
 	struct hl_restbus_message_counts msg[HL_RESTBUS_MAX_MESSAGES];
 	uint64_t vehicle_cycles, camera_cycles; /* deadlines served */

@@ -92,23 +92,13 @@ def test_restbus_on_vcan0_sends_the_scenario(hdlamp, tmp_path):
     assert len(cycles) >= 20
     for a, b in zip(cycles, cycles[1:]):
         assert b["counter"] == (a["counter"] + 1) % 15
-    checked = ambiguous = 0
+    exact = ambiguous = 0
     late_s = max(m["late_ms"]["max"] for m in rb["messages"][1:]) / 1e3
     worst = 0.0
     for cyc in cycles:
         n = bits(cyc["info"][0], 16, 4)
         assert sorted(cyc["info"]) == list(range(max(n, 1))), cyc
         assert sorted(cyc["box"]) == list(range(n)), cyc
-        # The cycle's deadline lies at a whole number of 40 ms periods of the scenario clock,
-        # at most late_s before the frame's kernel timestamp (taken inside the send call).
-        x = cyc["t"] - offset - t0
-        ks = range(math.floor((x - late_s - 1e-4) / 0.04), math.floor(x / 0.04 + 1e-6) + 1)
-        ks = [k for k in ks if 0 <= x - k * 0.04 <= late_s + 1e-3]
-        if len(ks) != 1:
-            ambiguous += 1
-            continue
-        want = project(ks[0] * 0.04)
-        assert n == len(want), (ks[0] * 0.04, n, want)
         got = {}
         for slot in range(n):
             info, box = cyc["info"][slot], cyc["box"][slot]
@@ -120,18 +110,34 @@ def test_restbus_on_vcan0_sends_the_scenario(hdlamp, tmp_path):
                                       bits(box, 53, 11, True) * 0.02,
                                       bits(info, 30, 16) * 0.01)
             assert bits(info, 46, 7) == 100  # confidence 1
-        assert sorted(got) == sorted(want)
-        for oid, g in got.items():
-            w = want[oid]
-            assert g[0] == w[0], (oid, g, w)
-            for k in range(1, 5):
-                worst = max(worst, abs(g[k] - w[k]))
-                assert abs(g[k] - w[k]) <= 0.05, (oid, k, g, w)
-            assert abs(g[5] - w[5]) <= 0.01, (oid, g, w)
         # nearest first
         assert [got[o][5] for o in got] == sorted(got[o][5] for o in got)
-        checked += 1
-    print(f"camera cycles {len(cycles)}: {checked} checked against the projection (worst "
-          f"{worst:.4f} deg), {ambiguous} with an ambiguous deadline (late up to "
+        # The cycle's deadline lies at a whole number of 40 ms periods of the scenario clock,
+        # at most late_s (the largest lateness the daemon measured, taken after the send) before
+        # the frame's kernel timestamp (taken inside the send call). Under a loaded TCG that
+        # window can hold two deadlines: the cycle must then be the projection at one of them.
+        x = cyc["t"] - offset - t0
+        ks = [k for k in range(math.floor((x - late_s) / 0.04) - 1, math.floor(x / 0.04) + 2)
+              if -1e-3 <= x - k * 0.04 <= late_s + 1e-3 and k >= 0]
+        assert ks, (x, late_s)
+        errors = []
+        for k in ks:
+            want = project(k * 0.04)
+            if sorted(got) != sorted(want):
+                errors.append(f"t {k * 0.04:.2f} s: objects {sorted(got)}, expected "
+                              f"{sorted(want)}")
+                continue
+            dev = max(abs(g - w) for oid in got for g, w in zip(got[oid][1:5], want[oid][1:5]))
+            bad = [(oid, got[oid], want[oid]) for oid in got
+                   if got[oid][0] != want[oid][0] or abs(got[oid][5] - want[oid][5]) > 0.01]
+            if dev <= 0.05 and not bad:
+                worst = max(worst, dev)
+                break
+            errors.append(f"t {k * 0.04:.2f} s: deviation {dev:.4f} deg, {bad}")
+        else:
+            raise AssertionError(f"cycle at {x:.4f} s matches no deadline: {errors}")
+        exact += len(ks) == 1
+        ambiguous += len(ks) > 1
+    print(f"camera cycles {len(cycles)} all equal to the projection (worst {worst:.4f} deg): "
+          f"{exact} at their one possible deadline, {ambiguous} at one of two (late up to "
           f"{1e3 * late_s:.1f} ms)")
-    assert checked >= 10
