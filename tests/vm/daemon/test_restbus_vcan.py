@@ -139,5 +139,5 @@ def test_restbus_on_vcan0_sends_the_scenario(hdlamp, tmp_path):
         exact += len(ks) == 1
         ambiguous += len(ks) > 1
     print(f"camera cycles {len(cycles)} all equal to the projection (worst {worst:.4f} deg): "
-          f"{exact} at their one possible deadline, {ambiguous} at one of two (late up to "
+          f"{exact} at their one possible deadline, {ambiguous} at one of several (late up to "
           f"{1e3 * late_s:.1f} ms)")
