@@ -121,6 +121,17 @@ int hl_restbus_new(const struct hl_restbus_config *cfg, struct hl_restbus **ret,
 		rc = -EINVAL;
 		goto err_free;
 	}
+	/* and the range the distance signal, or a far object could not be sent */
+	if (hl_inputs_map_range(rb->map, "distance", &lo, &hi) == 0 && hi > lo &&
+	    cfg->cam.range_m > hi) {
+		snprintf(
+			err, err_size,
+			"restbus.range_m %g: farther than the database '%s' can carry (its distance "
+			"signal's range ends at %g m)",
+			cfg->cam.range_m, cfg->dbc, hi);
+		rc = -EINVAL;
+		goto err_free;
+	}
 	rc = hl_can_socket_new(rb->iface, ids, rb->c.n_messages, &rb->sock);
 	if (rc < 0) {
 		snprintf(err, err_size, "restbus.interface '%s': %s", rb->iface, strerror(-rc));

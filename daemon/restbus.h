@@ -91,8 +91,8 @@ struct hl_restbus;
 
 /*
  * Loads and maps the database, checks the cycle times (1..HL_RESTBUS_MAX_CYCLE_MS, the same for
- * every objects message) and that the camera's field of view fits the box signals' ranges,
- * makes the socket (not opened yet). 0, -EINVAL (err names the file, message, signal or
+ * every objects message) and that the camera's field of view and range fit the box and distance
+ * signals' ranges, makes the socket (not opened yet). 0, -EINVAL (err names the file, message, signal or
  * attribute), -errno.
  */
 int hl_restbus_new(const struct hl_restbus_config *cfg, struct hl_restbus **ret, char *err,

@@ -2,8 +2,8 @@
 test_restbus_vcan.py): the daemon runs on with the interface missing, counts every frame due as
 link_down, logs the failure once; /status's camera cycle equals the projection the test
 computes from the scenario file at the cycle's own scenario time; /metrics passes promtool; a
-database without the input attributes, and a field of view wider than the database carries,
-stop the start (exit 2) naming what is wrong."""
+database without the input attributes, a field of view wider than the database carries
+and a range farther than its distance signal stop the start (exit 2) naming what is wrong."""
 import json
 import subprocess
 import time
@@ -93,6 +93,11 @@ def test_restbus_refuses_a_database_without_inputs(hdlamp, hd84, tmp_path):
                        text=True, timeout=120)
     assert r.returncode == 2, r.stderr
     assert "restbus.fov_deg 170,30: wider than the database" in r.stderr, r.stderr
+    r = subprocess.run(base + ["--set", "restbus.range_m=700"], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2, r.stderr
+    assert ("restbus.range_m 700: farther than the database") in r.stderr, r.stderr
+    assert "its distance signal's range ends at 655.35 m" in r.stderr, r.stderr
     r = subprocess.run([HDLAMPD, "--replay", log, "--restbus", "can9"], capture_output=True,
                        text=True, timeout=60)
     assert r.returncode == 2
