@@ -81,6 +81,13 @@ int hl_restbus_new(const struct hl_restbus_config *cfg, struct hl_restbus **ret,
 			 derr.column, derr.msg);
 		goto err_free;
 	}
+	for (int i = 0; cfg->log && i < hl_dbc_n_warnings(rb->db); i++) {
+		int line, col;
+		const char *w = hl_dbc_warning(rb->db, i, &line, &col);
+
+		fprintf(cfg->log, "hdlampd: restbus.dbc '%s':%d:%d: warning: %s\n", cfg->dbc, line,
+			col, w);
+	}
 	rc = hl_inputs_map_new(rb->db, &rb->map, msg, sizeof(msg));
 	if (rc < 0) {
 		snprintf(err, err_size, "restbus.dbc '%s': %s", cfg->dbc,

@@ -93,9 +93,15 @@ def test_restbus_refuses_a_database_without_inputs(hdlamp, hd84, tmp_path):
                        text=True, timeout=120)
     assert r.returncode == 2, r.stderr
     assert "restbus.fov_deg 170,30: wider than the database" in r.stderr, r.stderr
-    r = subprocess.run(base + ["--set", "restbus.range_m=700"], capture_output=True,
-                       text=True, timeout=120)
+    # a database read leniently has its warnings logged (here before the range's refusal)
+    odd = tmp_path / "odd_inputs.dbc"
+    text = open(dbc_path("hd84_inputs.dbc")).read()
+    odd.write_text(text.replace("\nBO_ 272 ", "\nHDL_UNKNOWN_SECTION_ 1 2 3;\nBO_ 272 ", 1))
+    line = text[:text.index("\nBO_ 272 ")].count("\n") + 2
+    r = subprocess.run(base + ["--set", f"restbus.dbc={odd}", "--set", "restbus.range_m=700"],
+                       capture_output=True, text=True, timeout=120)
     assert r.returncode == 2, r.stderr
+    assert f"hdlampd: restbus.dbc '{odd}':{line}:1: warning: " in r.stderr, r.stderr
     assert ("restbus.range_m 700: farther than the database") in r.stderr, r.stderr
     assert "its distance signal's range ends at 655.35 m" in r.stderr, r.stderr
     r = subprocess.run([HDLAMPD, "--replay", log, "--restbus", "can9"], capture_output=True,
