@@ -198,7 +198,11 @@ int hl_can_socket_send(struct hl_can_socket *s, uint32_t can_id, const uint8_t *
 	ssize_t n;
 	int rc;
 
-	/* CAN FD lengths above 8: 12, 16, 20, 24, 32, 48, 64 (ISO 11898-1 DLC 9..15) */
+	/*
+	 * CAN FD lengths above 8: 12, 16, 20, 24, 32, 48, 64, the bytes of DLC 9..15 (ISO
+	 * 11898-1:2015 is not public; the table as a controller manual gives it: Microchip, "DLC
+	 * Encoding", https://onlinedocs.microchip.com/oxy/GUID-E48B4A26-F201-4F0A-BCBA-16461582816A-en-US-3/GUID-A706C28E-8EC4-4CB2-AC6F-D2F0B6233CE5.html)
+	 */
 	if (len > (fd ? CANFD_MAX_DLEN : CAN_MAX_DLEN) ||
 	    (len > 8 && len != 12 && len != 16 && len != 20 && len != 24 && len != 32 &&
 	     len != 48 && len != 64))
