@@ -5,6 +5,7 @@
  * outputs; with it off (--no-render), this thread consumes the ring and prints JSON lines.
  */
 #include "daemon/live.h"
+#include "daemon/live_internal.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -39,43 +40,7 @@
 
 #define POOL_FRAMES 8
 
-struct live {
-	struct hl_config cfg;
-	const struct hl_live_args *args;
-	const char *input_name; /* the interface or the replayed log */
-	struct hl_dbc *db;
-	struct hl_assembler *a;
-	const char *lamp_names[HL_RING_MAX_LAMPS]; /* the assembler's */
-	int n_lamps;
-	struct hl_ring *ring;
-	struct hl_can_input *in;
-	/* decode-only: this thread is the ring's consumer */
-	struct hl_snapshot *snap;
-	struct hl_decode_seen seen;
-	/* the renderer and the outputs (NULL when decode-only) */
-	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
-	struct hl_frame_pool *pool;
-	struct hl_pipeline *pipe;
-	struct hl_stream *stream;
-	struct hl_gpio *gpio;
-	struct hl_status *status;
-	struct hl_verdicts *verdicts; /* the regulation sets and road KPIs per frame */
-	/* the moving scene (scene.scenario): its glare per frame, poses from a simulator */
-	struct hl_scenario *sc;
-	struct hl_regulation *glare_reg;
-	struct hl_glare_live *glare;
-	struct hl_pose_input *pose;
-	struct hl_restbus *restbus; /* restbus.interface: the ECU's inputs from the scenario */
-	bool config_error; /* setup failed on the configuration: exit 2 */
-	struct hl_http *http;
-	struct hl_capture_queue *captures; /* the one capture writer */
-	struct hl_frame_exr_info exr_info; /* camera and lamp poses for /frame.exr */
-	uint64_t watchdog_us; /* ping interval, 0 without a watchdog */
-	int64_t watchdog_last_ns; /* render thread's */
-};
-
-static void log_msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static void log_msg(const char *fmt, ...)
+void hl_live_log(const char *fmt, ...)
 {
 	va_list ap;
 
@@ -140,13 +105,14 @@ static int load_failsafe(const struct hl_config *cfg, int n_lamps, int n_sources
 	rc = hl_preset_read(path, &p, &perr);
 	if (rc < 0) {
 		/* line and column only where the file has them (not for one that cannot open) */
-		log_msg("lamps.failsafe preset '%s': '%s'%s%.0d%s%.0d: %s", cfg->failsafe_preset,
-			path, perr.line ? ":" : "", perr.line, perr.line ? ":" : "", perr.column,
-			perr.msg);
+		hl_live_log("lamps.failsafe preset '%s': '%s'%s%.0d%s%.0d: %s",
+			    cfg->failsafe_preset, path, perr.line ? ":" : "", perr.line,
+			    perr.line ? ":" : "", perr.column, perr.msg);
 		return rc;
 	}
 	if (p->n_sources != n_sources) {
-		log_msg("lamps.failsafe preset '%s': %d values per lamp; the lamps have %d sources",
+		hl_live_log(
+			"lamps.failsafe preset '%s': %d values per lamp; the lamps have %d sources",
 			path, p->n_sources, n_sources);
 		hl_preset_free(p);
 		return -EINVAL;
@@ -194,12 +160,12 @@ static void reload(struct live *lv)
 
 	hl_config_defaults(&next);
 	if (lv->args->config_path && hl_config_load(&next, lv->args->config_path, &err) < 0) {
-		log_msg("reload: %s; keeping the running configuration", err.msg);
+		hl_live_log("reload: %s; keeping the running configuration", err.msg);
 		return;
 	}
 	for (int i = 0; i < lv->args->n_overrides; i++)
 		if (hl_config_set_arg(&next, lv->args->overrides[i], "command line", &err) < 0) {
-			log_msg("reload: %s", err.msg);
+			hl_live_log("reload: %s", err.msg);
 			return;
 		}
 	if (load_failsafe(&next, lv->n_lamps, hl_assembler_n_sources(lv->a, 0), dims) < 0)
@@ -212,7 +178,8 @@ static void reload(struct live *lv)
 	hl_status_reloaded(lv->status, next.failsafe); /* what HTTP threads read, locked */
 	free(dims[0]);
 	free(dims[1]);
-	log_msg("reloaded: lamps.failsafe and render.exposure_ev applied; other keys take effect at restart");
+	hl_live_log(
+		"reloaded: lamps.failsafe and render.exposure_ev applied; other keys take effect at restart");
 }
 
 /* DBC and assembler: the lamps and how their cycles come in (both modes). */
@@ -226,23 +193,24 @@ static int setup_input(struct live *lv, int *ret_n_sources)
 				     &derr);
 	if (rc < 0) {
 		if (derr.line)
-			log_msg("'%s':%d:%d: %s", lv->cfg.dbc, derr.line, derr.column, derr.msg);
+			hl_live_log("'%s':%d:%d: %s", lv->cfg.dbc, derr.line, derr.column,
+				    derr.msg);
 		else
-			log_msg("'%s': %s", lv->cfg.dbc, derr.msg);
+			hl_live_log("'%s': %s", lv->cfg.dbc, derr.msg);
 		return rc;
 	}
 	for (int i = 0; i < hl_dbc_n_warnings(lv->db); i++) {
 		int line, col;
 		const char *w = hl_dbc_warning(lv->db, i, &line, &col);
 
-		log_msg("'%s':%d:%d: warning: %s", lv->cfg.dbc, line, col, w);
+		hl_live_log("'%s':%d:%d: warning: %s", lv->cfg.dbc, line, col, w);
 	}
 	/* replays run on the log's timeline (0 = first frame); a live bus on CLOCK_MONOTONIC */
 	rc = hl_assembler_new(lv->db, (const char *const *)lv->args->lamp_names, lv->args->n_lamps,
 			      lv->cfg.timeout_ms,
 			      lv->cfg.interface[0] ? hl_clock_monotonic_ns() : 0, &lv->a, &aerr);
 	if (rc < 0) {
-		log_msg("'%s': %s", lv->cfg.dbc, aerr.msg);
+		hl_live_log("'%s': %s", lv->cfg.dbc, aerr.msg);
 		return rc;
 	}
 	lv->n_lamps = hl_assembler_n_lamps(lv->a);
@@ -264,20 +232,21 @@ static int load_lids(struct live *lv)
 
 	for (int l = 0; l < lv->n_lamps; l++) {
 		if (!lid_paths[l][0]) {
-			log_msg("lamps.%s: no LID file configured (make one with 'hdlamp model --out DIR')",
+			hl_live_log(
+				"lamps.%s: no LID file configured (make one with 'hdlamp model --out DIR')",
 				l ? "right" : "left");
 			return -EINVAL;
 		}
 		rc = hl_lid_read(lid_paths[l], &lv->lids[l], &lerr);
 		if (rc < 0) {
-			log_msg("%s", lerr.msg);
+			hl_live_log("%s", lerr.msg);
 			return rc;
 		}
 		if (hl_lid_n_sources(lv->lids[l]) != hl_assembler_n_sources(lv->a, l) &&
 		    !hl_lid_is_combined(lv->lids[l])) {
-			log_msg("'%s' has %d sources; the DBC gives lamp '%s' %d", lid_paths[l],
-				hl_lid_n_sources(lv->lids[l]), lv->lamp_names[l],
-				hl_assembler_n_sources(lv->a, l));
+			hl_live_log("'%s' has %d sources; the DBC gives lamp '%s' %d", lid_paths[l],
+				    hl_lid_n_sources(lv->lids[l]), lv->lamp_names[l],
+				    hl_assembler_n_sources(lv->a, l));
 			return -EINVAL;
 		}
 	}
@@ -285,167 +254,6 @@ static int load_lids(struct live *lv)
 }
 
 /* The verdict sets and road KPIs on the lamps' grids at their mounted poses. */
-static int setup_verdicts(struct live *lv)
-{
-	const struct hl_lid_grid *grids[HL_FRAME_MAX_LAMPS] = { NULL };
-	struct hl_lamp_pose poses[HL_FRAME_MAX_LAMPS];
-	struct hl_verdicts_mode_source mode = { -1, NULL };
-	char err[1024];
-	int rc;
-
-	for (int l = 0; l < lv->n_lamps; l++) {
-		grids[l] = hl_lid_grid(lv->lids[l]);
-		hl_lamp_pose_default(l, &poses[l]); /* as the renderer places them */
-		if (mode.lamp < 0 && hl_assembler_mode_signal(lv->a, l))
-			mode = (struct hl_verdicts_mode_source){ l, hl_assembler_mode_signal(lv->a,
-											     l) };
-	}
-	rc = hl_verdicts_new(&lv->cfg, lv->n_lamps, lv->lamp_names, grids, poses, &mode,
-			     &lv->verdicts, err, sizeof(err));
-	if (rc < 0) {
-		log_msg("%s", err);
-		lv->config_error = rc != -ENOMEM;
-		return rc;
-	}
-	for (int i = 0; i < hl_verdicts_n_sets(lv->verdicts); i++) {
-		const struct hl_regulation *reg = hl_verdicts_set(lv->verdicts, i);
-
-		log_msg("verdict: set '%s' (%d requirements, %s): %s", reg->id, reg->n_requirements,
-			reg->applies == HL_REG_PAIR_HALF ? "half the pair's sum" : "each lamp",
-			reg->title);
-	}
-	if (mode.lamp >= 0)
-		log_msg("verdict: beam mode from signal %s of lamp '%s'%s", mode.signal->name,
-			lv->lamp_names[mode.lamp],
-			lv->cfg.verdict_modes[0] ?
-				"" :
-				" (verdict.modes is empty: every set on every frame)");
-	return 0;
-}
-
-/*
- * The scenario (scene.scenario), the glare plan on the lamps' grids under scene.glare_set, and
- * the pose input (pose.listen). A bad file or set is a configuration error (exit 2).
- */
-static int setup_scene(struct live *lv)
-{
-	const struct hl_lid_grid *grids[2];
-	struct hl_regulation_error rerr = { 0, 0, "" };
-	struct hl_json_error jerr;
-	char msg[1024];
-	int rc;
-
-	if (!lv->cfg.scenario[0])
-		return 0;
-	lv->config_error = true; /* until it is all set up */
-	rc = hl_scenario_read(lv->cfg.scenario, &lv->sc, &jerr);
-	if (rc < 0) {
-		hl_json_error_format(&jerr, msg, sizeof(msg));
-		log_msg("scene.scenario: %s", msg);
-		return rc;
-	}
-	if (lv->n_lamps != 2) {
-		log_msg("scene.scenario '%s': the glare at the road users' eyes takes two lamps; "
-			"can.lamps has %d",
-			lv->cfg.scenario, lv->n_lamps);
-		return -EINVAL;
-	}
-	rc = hl_regulation_load(lv->cfg.regulations, lv->cfg.glare_set, &lv->glare_reg, &rerr);
-	if (rc < 0) {
-		if (rc == -ENOENT)
-			log_msg("scene.glare_set: no set '%s' in '%s' (no file '%s/%s.json'; "
-				"verdict.regulations names the directory)",
-				lv->cfg.glare_set, lv->cfg.regulations, lv->cfg.regulations,
-				lv->cfg.glare_set);
-		else
-			log_msg("scene.glare_set '%s': %s", lv->cfg.glare_set,
-				rerr.msg[0] ? rerr.msg : strerror(-rc));
-		return rc;
-	}
-	grids[0] = hl_lid_grid(lv->lids[0]);
-	grids[1] = hl_lid_grid(lv->lids[1]);
-	rc = hl_glare_live_new(lv->sc, lv->glare_reg, grids, lv->cfg.glare_history, &lv->glare);
-	if (rc < 0) {
-		log_msg("scene.glare_set '%s': %s", lv->cfg.glare_set,
-			rc == -EINVAL ? "not a glare table: expected a set on half the pair's sum "
-					"with \"Oncoming D m\" or \"Preceding D m\" rows" :
-					strerror(-rc));
-		return rc;
-	}
-	log_msg("scene: '%s' (%s): %d road users, %.1f s, its clock on %s; glare limits from '%s'",
-		lv->cfg.scenario, lv->sc->title, lv->sc->n_actors, lv->sc->duration_s,
-		lv->cfg.replay[0] ? "the log's time" : "CLOCK_MONOTONIC", lv->glare_reg->id);
-	if (lv->cfg.pose_listen[0]) {
-		rc = hl_pose_input_new(lv->cfg.pose_listen, lv->sc, stderr, &lv->pose, msg,
-				       sizeof(msg));
-		if (rc < 0) {
-			log_msg("%s", msg);
-			lv->config_error = rc == -EINVAL;
-			return rc;
-		}
-		log_msg("pose input on %s (port %u)", lv->cfg.pose_listen,
-			hl_pose_input_port(lv->pose));
-	}
-	lv->config_error = false;
-	return 0;
-}
-
-/*
- * The restbus (restbus.interface): the input database (restbus.dbc, or the shipped
- * hd84_inputs.dbc), the camera. A bad database or camera is a configuration error (exit 2).
- */
-static int setup_restbus(struct live *lv)
-{
-	char dbc[HL_CONFIG_PATH + 32], msg[1024];
-	const char *sw = lv->cfg.restbus_light_switch;
-	struct hl_restbus_config rc_cfg = {
-		.iface = lv->cfg.restbus_interface,
-		.dbc = dbc,
-		.sc = lv->sc,
-		.pose = lv->pose,
-		.cam = { .pos_m = { lv->cfg.restbus_camera_pos_m[0],
-				    lv->cfg.restbus_camera_pos_m[1],
-				    lv->cfg.restbus_camera_pos_m[2] },
-			 .fov_h_deg = lv->cfg.restbus_fov_deg[0],
-			 .fov_v_deg = lv->cfg.restbus_fov_deg[1],
-			 .range_m = lv->cfg.restbus_range_m },
-		.light_switch = strcmp(sw, "off") == 0	? HL_SWITCH_OFF :
-				strcmp(sw, "low") == 0	? HL_SWITCH_LOW :
-				strcmp(sw, "high") == 0 ? HL_SWITCH_HIGH :
-							  HL_SWITCH_AUTO,
-		.adb_enable = lv->cfg.restbus_adb_enable,
-		.rt_priority = lv->cfg.rt_priority > 1 ? lv->cfg.rt_priority - 1 :
-							 lv->cfg.rt_priority,
-		.log = stderr,
-	};
-	int rc;
-
-	if (!lv->cfg.restbus_interface[0] || !lv->sc)
-		return 0;
-	if (lv->cfg.restbus_dbc[0]) {
-		snprintf(dbc, sizeof(dbc), "%s", lv->cfg.restbus_dbc);
-	} else if (hl_share_dir("dbc", dbc, sizeof(dbc) - 20) == 0) {
-		strcat(dbc, "/hd84_inputs.dbc");
-	} else {
-		log_msg("restbus.dbc: cannot find the shipped databases beside the binary; set "
-			"restbus.dbc");
-		lv->config_error = true;
-		return -ENOENT;
-	}
-	rc = hl_restbus_new(&rc_cfg, &lv->restbus, msg, sizeof(msg));
-	if (rc < 0) {
-		log_msg("%s", msg);
-		lv->config_error = rc == -EINVAL || rc == -ENOENT;
-		return rc;
-	}
-	log_msg("restbus on '%s' from '%s': camera at %g,%g,%g m, field of view %g x %g deg, "
-		"range %g m; light switch %s, ADB %s",
-		lv->cfg.restbus_interface, dbc, rc_cfg.cam.pos_m[0], rc_cfg.cam.pos_m[1],
-		rc_cfg.cam.pos_m[2], rc_cfg.cam.fov_h_deg, rc_cfg.cam.fov_v_deg, rc_cfg.cam.range_m,
-		sw, lv->cfg.restbus_adb_enable ? "enabled" : "disabled");
-	return 0;
-}
-
 /*
  * The test-only fault switch HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=N (docs/daemon.md): the
  * render thread hangs after N frames, so that a test sees the systemd watchdog at work.
@@ -461,13 +269,15 @@ static int debug_stall(struct live *lv)
 	errno = 0;
 	n = strtoull(v, &end, 10);
 	if (!*v || *end || errno || n == 0 || v[0] == '-') {
-		log_msg("HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES '%s': expected a frame count > 0",
+		hl_live_log(
+			"HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES '%s': expected a frame count > 0",
 			v);
 		lv->config_error = true;
 		return -EINVAL;
 	}
 	hl_pipeline_debug_stall(lv->pipe, n);
-	log_msg("HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=%llu: test-only fault: the render thread "
+	hl_live_log(
+		"HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=%llu: test-only fault: the render thread "
 		"hangs after %llu frames",
 		n, n);
 	return 0;
@@ -505,7 +315,7 @@ static int setup_renderer(struct live *lv, int n_src)
 				     (const uint8_t *const *)dims, lv->ring, lv->pool, lv->verdicts,
 				     &hooks, &lv->pipe);
 		if (rc < 0)
-			log_msg("renderer: %s", strerror(-rc));
+			hl_live_log("renderer: %s", strerror(-rc));
 		else
 			hl_pipeline_set_scene(lv->pipe, lv->sc, lv->glare, lv->pose);
 	}
@@ -522,7 +332,7 @@ static int setup_renderer(struct live *lv, int n_src)
 				 lv->cfg.gpio_trigger_edge, lv->cfg.gpio_ecu_enable, &lv->gpio,
 				 &gerr);
 		if (rc < 0) {
-			log_msg("gpio: %s", gerr.msg);
+			hl_live_log("gpio: %s", gerr.msg);
 			return rc;
 		}
 		rc = hl_frame_pool_subscribe(lv->pool, strobe, lv->gpio);
@@ -536,10 +346,10 @@ static int setup_renderer(struct live *lv, int n_src)
 		return rc;
 	rc = hl_pipeline_start(lv->pipe, err, sizeof(err));
 	if (rc < 0) {
-		log_msg("%s", err);
+		hl_live_log("%s", err);
 		return rc;
 	}
-	log_msg("renderer: %s", hl_pipeline_describe(lv->pipe));
+	hl_live_log("renderer: %s", hl_pipeline_describe(lv->pipe));
 	return 0;
 }
 
@@ -579,7 +389,7 @@ static int setup_outputs(struct live *lv)
 	}
 	rc = hl_capture_queue_new(&cq, &lv->captures);
 	if (rc < 0 || (rc = hl_capture_queue_start(lv->captures)) < 0) {
-		log_msg("captures: %s", strerror(-rc));
+		hl_live_log("captures: %s", strerror(-rc));
 		return rc;
 	}
 	if (lv->cfg.stream_tcp[0] || lv->cfg.stream_unix[0]) {
@@ -591,12 +401,12 @@ static int setup_outputs(struct live *lv)
 								 lv->cfg.rt_priority - 1 :
 								 lv->cfg.rt_priority);
 		if (rc < 0) {
-			log_msg("%s", err);
+			hl_live_log("%s", err);
 			return rc;
 		}
-		log_msg("frame stream on %s%s%s (port %d)", lv->cfg.stream_tcp,
-			lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
-			hl_stream_tcp_port(lv->stream));
+		hl_live_log("frame stream on %s%s%s (port %d)", lv->cfg.stream_tcp,
+			    lv->cfg.stream_unix[0] ? " and " : "", lv->cfg.stream_unix,
+			    hl_stream_tcp_port(lv->stream));
 	}
 	ss.stream = lv->stream;
 	ss.captures = lv->captures;
@@ -621,14 +431,15 @@ static int setup_outputs(struct live *lv)
 	rc = rc < 0 ? rc : hl_status_new(&ss, lv->cfg.failsafe, &lv->status);
 	rc = rc < 0 || !lv->http ? rc : hl_http_start(lv->http);
 	if (rc < 0 && lv->cfg.http_listen[0] && (!lv->http || lv->status)) /* not the status' */
-		log_msg("http.listen '%s': %s", lv->cfg.http_listen, strerror(-rc));
+		hl_live_log("http.listen '%s': %s", lv->cfg.http_listen, strerror(-rc));
 	if (rc == 0 && lv->http && !hl_http_loopback(lv->http))
-		log_msg("warning: http.listen '%s' is not a loopback address: other hosts can connect",
+		hl_live_log(
+			"warning: http.listen '%s' is not a loopback address: other hosts can connect",
 			lv->cfg.http_listen);
 	if (rc == 0 && lv->http)
-		log_msg("live view on http://%s/ (port %u)%s", lv->cfg.http_listen,
-			hl_http_port(lv->http),
-			lv->cfg.http_capture ? ", POST /capture allowed" : "");
+		hl_live_log("live view on http://%s/ (port %u)%s", lv->cfg.http_listen,
+			    hl_http_port(lv->http),
+			    lv->cfg.http_capture ? ", POST /capture allowed" : "");
 	return rc;
 }
 
@@ -640,14 +451,15 @@ static int setup(struct live *lv)
 	if (rc == 0 && lv->args->render)
 		rc = load_lids(lv);
 	if (rc == 0 && lv->args->render)
-		rc = setup_verdicts(lv);
+		rc = hl_live_setup_verdicts(lv);
 	if (rc == 0 && lv->args->render)
-		rc = setup_scene(lv);
+		rc = hl_live_setup_scene(lv);
 	if (rc == 0 && lv->args->render)
-		rc = setup_restbus(lv);
+		rc = hl_live_setup_restbus(lv);
 	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
-		log_msg("scene.scenario '%s': not used with --no-render (no light to judge)%s",
-			lv->cfg.scenario, lv->cfg.pose_listen[0] ? "; pose.listen neither" : "");
+		hl_live_log("scene.scenario '%s': not used with --no-render (no light to judge)%s",
+			    lv->cfg.scenario,
+			    lv->cfg.pose_listen[0] ? "; pose.listen neither" : "");
 	if (rc == 0)
 		rc = hl_ring_new(lv->args->ring_slots, lv->n_lamps, n_src, &lv->ring);
 	if (rc == 0 && !lv->args->render)
@@ -667,7 +479,7 @@ static int setup(struct live *lv)
 
 		rc = hl_can_input_new(&icfg, lv->a, lv->ring, &lv->in);
 		if (rc < 0) {
-			log_msg("'%s': %s", lv->input_name, strerror(-rc));
+			hl_live_log("'%s': %s", lv->input_name, strerror(-rc));
 			return rc;
 		}
 	}
@@ -678,13 +490,13 @@ static int setup(struct live *lv)
 		if (rc == 0 && lv->pose) {
 			rc = hl_pose_input_start(lv->pose);
 			if (rc < 0)
-				log_msg("cannot start the pose input: %s", strerror(-rc));
+				hl_live_log("cannot start the pose input: %s", strerror(-rc));
 		}
 		if (rc == 0 && lv->restbus) {
 			/* on the render thread's scenario clock */
 			rc = hl_restbus_start(lv->restbus, hl_pipeline_scene_t0_ns(lv->pipe));
 			if (rc < 0)
-				log_msg("cannot start the restbus: %s", strerror(-rc));
+				hl_live_log("cannot start the restbus: %s", strerror(-rc));
 		}
 		if (rc < 0)
 			return rc;
@@ -698,7 +510,7 @@ static int setup(struct live *lv)
 	}
 	rc = hl_can_input_start(lv->in);
 	if (rc < 0)
-		log_msg("cannot start the CAN thread: %s", strerror(-rc));
+		hl_live_log("cannot start the CAN thread: %s", strerror(-rc));
 	return rc;
 }
 
@@ -758,14 +570,15 @@ static void log_changes(struct live *lv, struct hl_input_status *prev)
 
 	hl_can_input_status(lv->in, &st);
 	if (st.link_up != prev->link_up)
-		log_msg("can: '%s': %s%s%s",
-			lv->cfg.interface[0] ? lv->cfg.interface : lv->cfg.replay,
-			st.link_up ? "up" : "down", st.link_up ? "" : ": ",
-			st.link_up ? "" : strerror(st.link_errno));
+		hl_live_log("can: '%s': %s%s%s",
+			    lv->cfg.interface[0] ? lv->cfg.interface : lv->cfg.replay,
+			    st.link_up ? "up" : "down", st.link_up ? "" : ": ",
+			    st.link_up ? "" : strerror(st.link_errno));
 	for (int l = 0; l < lv->n_lamps; l++)
 		if (st.stale[l] != prev->stale[l])
-			log_msg("lamp '%s': %s", lv->lamp_names[l],
-				st.stale[l] ? "stale, fail-safe on" : "recovered, fail-safe off");
+			hl_live_log("lamp '%s': %s", lv->lamp_names[l],
+				    st.stale[l] ? "stale, fail-safe on" :
+						  "recovered, fail-safe off");
 	*prev = st;
 }
 
@@ -881,7 +694,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			hl_capture_queue_submit(lv.captures, 0, msg, sizeof(msg));
 		} else {
 			if (lv.pipe)
-				log_msg("%s: stopping", strsignal((int)si.ssi_signo));
+				hl_live_log("%s: stopping", strsignal((int)si.ssi_signo));
 			code = 0;
 			break;
 		}
