@@ -74,26 +74,38 @@ static inline int naive_windows(const struct hl_lid *lid, const float *i_high, d
 
 /*
  * A point at camera angles (h, v, type A, degrees) and range r from a camera at c with yaw 0 and
- * pitch pitch_deg, seen from a level lamp at l with yaw yaw_deg, type A angles (degrees).
+ * pitch cam_pitch_deg, seen from a lamp at l turned by yaw_deg (left) and then pitch_deg (up),
+ * type A angles (degrees).
  */
-static inline void naive_parallax(const double c[3], double pitch_deg, double h_deg, double v_deg,
-				  double r, const double l[3], double yaw_deg, double *ret_h,
-				  double *ret_v)
+static inline void naive_parallax_pitched(const double c[3], double cam_pitch_deg, double h_deg,
+					  double v_deg, double r, const double l[3], double yaw_deg,
+					  double pitch_deg, double *ret_h, double *ret_v)
 {
 	/* direction in the camera's level frame: forward, left, up */
 	const double f0 = cos(v_deg * NAIVE_DEG) * cos(h_deg * NAIVE_DEG);
 	const double left = -cos(v_deg * NAIVE_DEG) * sin(h_deg * NAIVE_DEG);
 	const double up0 = sin(v_deg * NAIVE_DEG);
 	/* pitched: forward and up rotate about the left axis */
-	const double p = pitch_deg * NAIVE_DEG;
+	const double p = cam_pitch_deg * NAIVE_DEG;
 	const double fwd = f0 * cos(p) - up0 * sin(p);
 	const double up = f0 * sin(p) + up0 * cos(p);
 	const double dx = c[0] + r * fwd - l[0], dy = c[1] + r * left - l[1],
 		     dz = c[2] + r * up - l[2];
-	const double az = atan2(dy, dx) / NAIVE_DEG; /* positive left */
+	/* into the lamp: undo its yaw about z, then its pitch about its left axis */
+	const double y = yaw_deg * NAIVE_DEG, q = pitch_deg * NAIVE_DEG;
+	const double lf = dx * cos(y) + dy * sin(y), ll = -dx * sin(y) + dy * cos(y);
+	const double lf2 = lf * cos(q) + dz * sin(q), lu = -lf * sin(q) + dz * cos(q);
 
-	*ret_h = -(az - yaw_deg);
-	*ret_v = atan2(dz, hypot(dx, dy)) / NAIVE_DEG;
+	*ret_h = atan2(-ll, lf2) / NAIVE_DEG;
+	*ret_v = atan2(lu, hypot(ll, lf2)) / NAIVE_DEG;
+}
+
+/* The same for a level lamp. */
+static inline void naive_parallax(const double c[3], double pitch_deg, double h_deg, double v_deg,
+				  double r, const double l[3], double yaw_deg, double *ret_h,
+				  double *ret_v)
+{
+	naive_parallax_pitched(c, pitch_deg, h_deg, v_deg, r, l, yaw_deg, 0.0, ret_h, ret_v);
 }
 
 #endif

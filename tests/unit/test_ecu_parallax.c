@@ -36,7 +36,7 @@ static void parallax_point_ahead_by_hand(void **state)
 	assert_float_equal(h, atan2(0.7, 8.5) * 180 / M_PI, 1e-12);
 }
 
-/* Random points, a pitched camera and a yawed lamp, against the written-out geometry. */
+/* Random points, a pitched camera and a turned and pitched lamp, against the written-out geometry. */
 static void parallax_random_points(void **state)
 {
 	(void)state;
@@ -51,10 +51,11 @@ static void parallax_random_points(void **state)
 		cam.pitch_deg = -3 + 6 * test_uniform(&seed);
 		cam.pos_m[1] = -0.5 + test_uniform(&seed);
 		lamp.yaw_deg = -10 + 20 * test_uniform(&seed);
+		lamp.pitch_deg = -2 + 4 * test_uniform(&seed);
 		hl_ecu_mount_point(&cam, hc, vc, r, p);
 		hl_ecu_mount_angles(&lamp, HL_ANGLES_A, p, &h, &v);
-		naive_parallax(cam.pos_m, cam.pitch_deg, hc, vc, r, lamp.pos_m, lamp.yaw_deg, &wh,
-			       &wv);
+		naive_parallax_pitched(cam.pos_m, cam.pitch_deg, hc, vc, r, lamp.pos_m,
+				       lamp.yaw_deg, lamp.pitch_deg, &wh, &wv);
 		assert_float_equal(h, wh, 1e-9);
 		assert_float_equal(v, wv, 1e-9);
 	}
