@@ -128,9 +128,11 @@ static int parse_mount(const char *s, struct hl_ecu_mount *m)
 	int n = 0;
 	const char *p = s;
 
-	while (n < 5) {
+	for (;;) {
 		char *end;
 
+		if (n == 5)
+			return -EINVAL;
 		errno = 0;
 		v[n] = strtod(p, &end);
 		if (errno || end == p || !isfinite(v[n]))
@@ -142,14 +144,12 @@ static int parse_mount(const char *s, struct hl_ecu_mount *m)
 			return -EINVAL;
 		p = end + 1;
 	}
-	if ((n != 3 && n != 5) || *p == '\0' || fabs(v[0]) > 30 || fabs(v[1]) > 5 || v[2] < 0 ||
-	    v[2] > 5 || fabs(v[3]) > 90 || fabs(v[4]) > 30)
+	if ((n != 3 && n != 5) || fabs(v[0]) > 30 || fabs(v[1]) > 5 || v[2] < 0 || v[2] > 5 ||
+	    fabs(v[3]) > 90 || fabs(v[4]) > 30)
 		return -EINVAL;
-	*m = (struct hl_ecu_mount){ .pos_m = { v[0], v[1], v[2] } };
-	if (n == 5) {
-		m->yaw_deg = v[3];
-		m->pitch_deg = v[4];
-	}
+	*m = (struct hl_ecu_mount){ .pos_m = { v[0], v[1], v[2] },
+				    .yaw_deg = v[3],
+				    .pitch_deg = v[4] };
 	return 0;
 }
 
