@@ -67,7 +67,7 @@ struct out_cycle {
 struct counters {
 	uint64_t cycles, frames_sent, tx_errors, skipped_deadlines, failsafe_cycles;
 	uint64_t mode_cycles[4];
-	uint64_t rx_frames, rx_errors, reopens;
+	uint64_t rx_frames, rx_errors, reopens, tx_reopens;
 	int64_t late_max_ns; /* how far after its deadline a cycle was computed */
 };
 
@@ -490,8 +490,11 @@ static int tx_open(const char *iface, bool fd)
 	return s;
 }
 
-static void send_cycle(int tx, const struct out_cycle *oc, struct counters *cnt)
+/* Sends one cycle's frames; returns the last failed write's -errno, 0 when all went out. */
+static int send_cycle(int tx, const struct out_cycle *oc, struct counters *cnt)
 {
+	int rc = 0;
+
 	for (int l = 0; l < 2; l++) {
 		for (int i = 0; i < oc->n[l]; i++) {
 			const struct hl_encoded_frame *e = &oc->frames[l][i];
@@ -500,12 +503,15 @@ static void send_cycle(int tx, const struct out_cycle *oc, struct counters *cnt)
 
 			if (e->fd)
 				f.flags |= CANFD_BRS;
-			if (write(tx, &f, size) == (ssize_t)size)
+			if (tx >= 0 && write(tx, &f, size) == (ssize_t)size) {
 				cnt->frames_sent++;
-			else
-				cnt->tx_errors++;
+				continue;
+			}
+			cnt->tx_errors++;
+			rc = tx < 0 ? -ENODEV : -errno;
 		}
 	}
+	return rc;
 }
 
 static const char *const failsafe_names[] = { "vehicle_missing", "objects_missing", "vehicle_e2e",
@@ -558,8 +564,9 @@ static void print_summary(const struct counters *c, const struct hl_inputs_count
 	       in->object_frames, in->cycles_complete, in->cycles_incomplete);
 	printf(",\"socket\":{\"frames\":%" PRIu64 ",\"kernel_drops\":%" PRIu64
 	       ",\"error_frames\":%" PRIu64 ",\"read_errors\":%" PRIu64 ",\"reopens\":%" PRIu64
-	       "}}\n",
-	       ss->frames, ss->kernel_drops, ss->error_frames, c->rx_errors, c->reopens);
+	       ",\"tx_reopens\":%" PRIu64 "}}\n",
+	       ss->frames, ss->kernel_drops, ss->error_frames, c->rx_errors, c->reopens,
+	       c->tx_reopens);
 	fflush(stdout);
 }
 
@@ -571,6 +578,7 @@ struct ecu_run {
 	struct hl_ecu *e;
 	struct hl_can_socket *rx;
 	int tx, tfd, sfd;
+	bool tx_fd; /* the dimming frames include CAN FD ones */
 	struct out_cycle *q; /* ring of pending cycles */
 	int q_size, q_head, q_len;
 	unsigned counter[2];
@@ -668,7 +676,21 @@ static int compute_cycle(struct ecu_run *r, int64_t t_deadline)
 static void send_due(struct ecu_run *r, int64_t now)
 {
 	while (r->q_len > 0 && r->q[r->q_head].due_ns <= now) {
-		send_cycle(r->tx, &r->q[r->q_head], &r->c);
+		int rc;
+
+		/* an interface deleted and added again: the old socket is bound to nothing */
+		if (r->tx < 0) {
+			r->tx = tx_open(r->o->iface, r->tx_fd);
+			if (r->tx >= 0)
+				r->c.tx_reopens++;
+		}
+		rc = send_cycle(r->tx, &r->q[r->q_head], &r->c);
+
+		/* raw CAN's send: -ENXIO when its interface is gone, -ENETDOWN while it is down */
+		if ((rc == -ENXIO || rc == -ENODEV) && r->tx >= 0) {
+			close(r->tx);
+			r->tx = -1;
+		}
 		r->q_head = (r->q_head + 1) % r->q_size;
 		r->q_len--;
 	}
@@ -778,6 +800,7 @@ static int setup_io(struct ecu_run *r)
 		for (int i = 0; i < n; i++)
 			fd |= f[i].fd;
 	}
+	r->tx_fd = fd;
 	r->tx = tx_open(r->o->iface, fd);
 	if (r->tx < 0) {
 		fprintf(stderr, "hdlamp ecu: can: '%s': cannot send: %s\n", r->o->iface,

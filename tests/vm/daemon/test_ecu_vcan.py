@@ -21,8 +21,6 @@ import threading
 import time
 
 import can
-import pytest
-
 from scenario import HDLAMPD, dbc_path
 from vmutil import Lines, sh
 
@@ -132,15 +130,18 @@ class Sender(threading.Thread):
         self.inputs = inputs
         self.state = {"speed_kmh": 60.0, "yaw_dps": 0.0, "switch": 3, "adb": 0}
         self.objects = []
+        self.corrupt_vehicle = False  # send the vehicle state with a wrong CRC
         self.lock = threading.Lock()
         self.halt = threading.Event()
         self.bus = can.Bus(interface="socketcan", channel="vcan0")
 
-    def set(self, objects=None, **state):
+    def set(self, objects=None, corrupt_vehicle=None, **state):
         with self.lock:
             self.state.update(state)
             if objects is not None:
                 self.objects = objects
+            if corrupt_vehicle is not None:
+                self.corrupt_vehicle = corrupt_vehicle
 
     def run(self):
         t0, i, alive = time.monotonic(), 0, 0
@@ -149,7 +150,10 @@ class Sender(threading.Thread):
             if delay > 0:
                 time.sleep(delay)
             with self.lock:
-                frames = [(self.inputs.vehicle, self.inputs.vehicle_frame(self.state, alive % 15))]
+                veh = bytearray(self.inputs.vehicle_frame(self.state, alive % 15))
+                if self.corrupt_vehicle:
+                    veh[0] ^= 0x01
+                frames = [(self.inputs.vehicle, bytes(veh))]
                 if i % 2 == 0:
                     frames += self.inputs.camera_frames(self.objects, (alive // 2) % 15)
             for mid, data in frames:
@@ -298,6 +302,15 @@ def wait_mode(lines, mode, timeout=30):
     raise AssertionError(f"no mode {mode}: {seen}")
 
 
+def lateness_of(cs, cycle):
+    """How long after its deadline a cycle's first frame was sent. The ECU's deadlines lie on
+    a 20 ms grid; each cycle's first frame is its deadline plus its wake-up lateness: the grid's
+    phase is the one that makes the run's lateness least."""
+    offs = [c[0] % PERIOD_S for c in cs]
+    base = min(offs, key=lambda b: sum((o - b) % PERIOD_S for o in offs))
+    return (cycle[0] - base) % PERIOD_S
+
+
 def check_phase(cycles, t_from, t_to, want, what, at_least=10):
     for lamp in ("left", "right"):
         got = cycles_between(cycles[lamp], t_from, t_to)
@@ -372,6 +385,17 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
         assert 0 < len(lit_off) < 30
     assert want["left"] != want["right"]  # the lamps see the car from 1.4 m apart
     check_phase(cycles, phases["high"] + settle, phases["glarefree"], want, "glare-free")
+    # the reaction: the first dimming cycle computed after the camera cycle that carried the
+    # car masks it (the ECU decides at each deadline on what it has received)
+    t_obj = min(t for t, mid, d in frames if mid == inputs.box)
+    for lamp in ("left", "right"):
+        cs = cycles[lamp]
+        first = next(c for c in cs if c[3] == want[lamp])
+        deadline = first[0] - lateness_of(cs, first)
+        print(f"{lamp}: the car's camera cycle to its first masked cycle "
+              f"{(first[0] - t_obj) * 1e3:.1f} ms (that cycle's deadline "
+              f"{(deadline - t_obj) * 1e3:.1f} ms after it)")
+        assert first[0] >= t_obj and deadline <= t_obj + PERIOD_S + 0.001
 
     # 3. inputs stop: low beam within the timeout +- one cycle, by the bus's timestamps
     t_veh = max(t for t, mid, _ in frames if mid == inputs.vehicle)
@@ -382,12 +406,7 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
         first_low = next(i for i, c in enumerate(cs) if c[0] > phases["high"] and c[3] == low[lamp])
         before, after = cs[first_low - 1], cs[first_low]
         assert before[3] == want[lamp]  # glare-free up to the fail-safe
-        # the ECU's deadlines lie on a 20 ms grid; each cycle's first frame is its deadline
-        # plus its wake-up lateness: the grid's phase is the one that makes the run's
-        # lateness least
-        offs = [c[0] % PERIOD_S for c in cs]
-        base = min(offs, key=lambda b: sum((o - b) % PERIOD_S for o in offs))
-        lateness = (after[0] - base) % PERIOD_S
+        lateness = lateness_of(cs, after)
         deadline = after[0] - lateness
         print(f"{lamp}: last input {(t_fs - t_veh) * 1e3:.1f} ms before the timeout; first "
               f"low cycle {(after[0] - t_fs) * 1e3:.1f} ms after it (its deadline "
@@ -461,3 +480,117 @@ def test_ecu_ignore_objects_keeps_high_beam_and_hdlampd_accepts_it(hdlamp, tmp_p
         assert s["cycles"] >= len(cycles[lamp]) > 50, (lamp, s["cycles"], len(cycles[lamp]))
         for key in ("crc_errors", "lost_cycles", "repeated_frames", "incomplete", "out_of_range"):
             assert s[key] == 0, (lamp, key, s[key])
+
+
+def test_ecu_e2e_failed_inputs_give_low_beam(hdlamp, tmp_path):
+    """Vehicle states with a wrong CRC are dropped and counted; three in a row are the
+    fail-safe (reason vehicle_e2e) even before the timeout; good ones bring the beam back."""
+    low, high = preset(hdlamp, tmp_path, "low"), preset(hdlamp, tmp_path, "high")
+    inputs = Inputs()
+    layout = dimming_layout()
+    rec = Recorder(str(tmp_path / "frames.jsonl"), [inputs.vehicle, *layout])
+    # a long timeout: only the E2E failures can make the fail-safe here
+    p, lines, start, windows = start_ecu(hdlamp, tmp_path, "--timeout-ms", "1000")
+    sender = Sender(inputs)
+    log = []  # everything the ECU printed
+    try:
+        sender.start()
+        log += wait_mode(lines, "high")
+        time.sleep(1.0)
+        t_bad = time.time()
+        sender.set(corrupt_vehicle=True)
+        while not any(e.get("event") == "mode" and "vehicle_e2e" in e["failsafe"] for e in log):
+            log.append(lines.next(timeout=30))
+        time.sleep(0.5)
+        t_good = time.time()
+        sender.set(corrupt_vehicle=False)
+        log += wait_mode(lines, "high")
+        time.sleep(1.0)
+    finally:
+        sender.stop()
+        events = stop_ecu(p, lines)
+        frames = rec.stop()
+    log += events
+    did = inputs.msgs[inputs.vehicle]["dataid"]
+    veh = [(t, bytes.fromhex(d)) for t, mid, d in frames if mid == inputs.vehicle]
+    bad = [t for t, d in veh if crc8_j1850(bytes([did & 0xFF, did >> 8]) + d[1:]) != d[0]]
+    assert bad and events[-1]["inputs"]["crc_errors"] == len(bad)
+    print(f"{len(bad)} vehicle states with a wrong CRC, {bad[-1] - bad[0]:.3f} s")
+    cycles = dimming_cycles(frames, layout)
+    fs = next(e for e in log if e.get("event") == "mode" and "vehicle_e2e" in e["failsafe"])
+    assert fs["mode"] == "low" and "vehicle_missing" not in fs["failsafe"], fs
+    for lamp in ("left", "right"):
+        cs = cycles[lamp]
+        # high beam until the third bad state, low beam from the first cycle after it
+        third = bad[2]
+        before = [c for c in cs if c[1] < bad[0]]
+        after = [c for c in cs if c[0] > third + PERIOD_S + 0.005 and c[1] < bad[-1]]
+        assert before and before[-1][3] == high[lamp]
+        assert after and all(c[3] == low[lamp] for c in after), lamp
+        first_low = next(c for c in cs if c[3] == low[lamp] and c[0] > t_bad)
+        assert first_low[0] >= third
+        assert first_low[0] - lateness_of(cs, first_low) <= third + PERIOD_S + 0.001
+    check_phase(cycles, t_good + 0.3, time.time(), high, "good states again", at_least=10)
+
+
+def test_ecu_counter_and_crc_faults_are_caught_by_hdlampd(hdlamp, tmp_path):
+    """--fault stuck-counter: hdlampd takes one cycle and counts every later frame as
+    repeated; --fault bad-crc: hdlampd drops every frame as a CRC error and takes none."""
+    layout = dimming_layout()
+    for fault in ("stuck-counter", "bad-crc"):
+        rec = Recorder(str(tmp_path / f"{fault}.jsonl"), list(layout))
+        d, dlines = start_hdlampd()
+        p, lines, start, windows = start_ecu(hdlamp, tmp_path, "--fault", fault)
+        try:
+            time.sleep(1.5)
+        finally:
+            events = stop_ecu(p, lines)
+            frames = rec.stop()
+            summary = stop_hdlampd(d, dlines)
+        sent = events[-1]["frames_sent"]
+        print(fault, "hdlampd:", json.dumps(summary["lamps"]), "sent", sent)
+        assert sent >= 24 * 20
+        for lamp, mid in (("left", 0x320), ("right", 0x321)):
+            s = summary["lamps"][lamp]
+            mine = [f for f in frames if f[1] == mid]
+            if fault == "stuck-counter":
+                assert all(bytes.fromhex(h)[1] & 0xF == 0 for _, _, h in mine)
+                assert s["cycles"] == 1 and s["crc_errors"] == 0
+                assert s["repeated_frames"] == s["frames"] - PAGES
+            else:
+                assert s["cycles"] == 0 and s["crc_errors"] == s["frames"] > 0
+
+
+def test_ecu_late_fault_delays_the_reaction(hdlamp, tmp_path):
+    """--fault late=100: the cycle that masks the car leaves 100 ms after its deadline."""
+    high = preset(hdlamp, tmp_path, "high")
+    inputs = Inputs()
+    layout = dimming_layout()
+    rec = Recorder(str(tmp_path / "frames.jsonl"), [inputs.box, *layout])
+    p, lines, start, windows = start_ecu(hdlamp, tmp_path, "--fault", "late=100")
+    assert start["late_ms"] == 100
+    sender = Sender(inputs)
+    try:
+        sender.set(switch=3, adb=1, objects=[])
+        sender.start()
+        wait_mode(lines, "glarefree")
+        time.sleep(1.0)
+        sender.set(objects=[ONCOMING])
+        time.sleep(1.5)
+    finally:
+        sender.stop()
+        stop_ecu(p, lines)
+        frames = rec.stop()
+    cycles = dimming_cycles(frames, layout)
+    t_obj = min(t for t, mid, _ in frames if mid == inputs.box)
+    for lamp in ("left", "right"):
+        off = masked(windows, lamp, [ONCOMING])
+        want = [0 if k in off else high[lamp][k] for k in range(N_SOURCES)]
+        cs = cycles[lamp]
+        first = next(c for c in cs if c[3] == want)
+        delay = first[0] - t_obj
+        print(f"{lamp}: the car's camera cycle to its first masked cycle {delay * 1e3:.1f} ms")
+        # computed at the next deadline (within 20 ms), sent 100 ms later
+        assert 0.100 <= delay
+        assert first[0] - lateness_of(cs, first) <= t_obj + PERIOD_S + 0.100 + 0.001
+        assert all(c[3] == high[lamp] for c in cs if c[1] < t_obj + 0.100)
