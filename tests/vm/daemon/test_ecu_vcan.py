@@ -426,8 +426,9 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     assert modes[-1]["mode"] == "low" and "vehicle_missing" in modes[-1]["failsafe"]
 
 
-def start_hdlampd():
-    p = subprocess.Popen([HDLAMPD, "--can", "vcan0", "--dbc", dbc_path("hd84.dbc"), "--no-render",
+def start_hdlampd(dbc=None):
+    p = subprocess.Popen([HDLAMPD, "--can", "vcan0", "--dbc", dbc or dbc_path("hd84.dbc"),
+                          "--no-render",
                           "--timeout-ms", "200"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     lines = Lines(p)
@@ -594,3 +595,57 @@ def test_ecu_late_fault_delays_the_reaction(hdlamp, tmp_path):
         assert 0.100 <= delay
         assert first[0] - lateness_of(cs, first) <= t_obj + PERIOD_S + 0.100 + 0.001
         assert all(c[3] == high[lamp] for c in cs if c[1] < t_obj + 0.100)
+
+
+def test_ecu_fd_database_on_fd_vcan0(hdlamp, tmp_path):
+    """The dimming database is data: with hd84_fd.dbc the ECU sends CAN FD frames (two per
+    lamp and cycle) and hdlampd, reading the same database, takes every cycle."""
+    sh("hl-vcan", "fd", "vcan0")
+    try:
+        d, dlines = start_hdlampd(dbc_path("hd84_fd.dbc"))
+        p, lines, start, windows = start_ecu(hdlamp, tmp_path, "--dbc", dbc_path("hd84_fd.dbc"))
+        time.sleep(1.5)
+        events = stop_ecu(p, lines)
+        summary = stop_hdlampd(d, dlines)
+    finally:
+        sh("hl-vcan", "classic", "vcan0")
+    ecu = events[-1]
+    print("ecu:", json.dumps(ecu), "hdlampd:", json.dumps(summary["lamps"]))
+    assert ecu["frames_sent"] == 4 * ecu["cycles"] and ecu["tx_errors"] == 0
+    assert summary["socket"]["fd_frames"] > 0
+    for lamp in ("left", "right"):
+        s = summary["lamps"][lamp]
+        assert s["cycles"] > 30 and s["frames"] == 2 * s["cycles"], (lamp, s)
+        for key in ("crc_errors", "lost_cycles", "repeated_frames", "incomplete", "out_of_range"):
+            assert s[key] == 0, (lamp, key, s[key])
+
+
+def test_ecu_survives_vcan0_deleted_and_readded(hdlamp, tmp_path):
+    """An adapter pulled and plugged in again: the ECU keeps its cycle, counts the frames it
+    could not send, reopens both sockets, and hdlampd gets its cycles again."""
+    d, dlines = start_hdlampd()
+    p, lines, start, windows = start_ecu(hdlamp, tmp_path)
+    try:
+        time.sleep(1.0)
+        sh("hl-vcan", "del", "vcan0")
+        time.sleep(0.3)
+        sh("hl-vcan", "add", "vcan0")
+        time.sleep(1.5)
+    finally:
+        events = stop_ecu(p, lines)
+        summary = stop_hdlampd(d, dlines)
+    ecu = events[-1]
+    print("ecu:", json.dumps(ecu), "hdlampd:", json.dumps(summary["lamps"]))
+    assert ecu["tx_errors"] > 0 and ecu["socket"]["tx_reopens"] == 1
+    assert ecu["socket"]["read_errors"] >= 1 and ecu["socket"]["reopens"] == 1
+    assert ecu["frames_sent"] + ecu["tx_errors"] == 24 * ecu["cycles"]
+    assert summary["socket"]["opens"] == 2
+    for lamp in ("left", "right"):
+        s = summary["lamps"][lamp]
+        # stale at start-up and in the outage, back after each; at the end it is live
+        assert s["recoveries"] == 2 and not s["stale"], (lamp, s)
+        # the ECU's alive counter kept stepping through the outage (about 15 cycles, the 4-bit
+        # counter's period), so its first cycle after it may carry the counter of the last
+        # one hdlampd took and be counted as repeated, and hdlampd's socket may come back in
+        # the middle of a cycle: what a real receiver would see too
+        assert s["crc_errors"] == 0 and s["incomplete"] <= 1
