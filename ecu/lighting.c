@@ -33,7 +33,7 @@ struct hl_ecu {
 void hl_ecu_config_default(struct hl_ecu_config *ret)
 {
 	*ret = (struct hl_ecu_config){
-		.camera = { .pos_m = { -1.5, 0.0, 1.3 } },
+		.camera = { .pos_m = { -1.8, 0.0, 1.3 } },
 		.window_fraction = HL_ECU_WINDOW_FRACTION,
 		.margin_deg = 0.5,
 		.min_confidence = 0.5,

@@ -94,8 +94,11 @@ struct hl_ecu_status {
 	int masked[HL_ECU_MAX_LAMPS]; /* sources switched off for objects, per lamp */
 };
 
-/* Camera behind the windscreen at (-1.5, 0, 1.3) m, level; 5 %, 0.5°, 0.5, 40 km/h, 60 ms
- * (three 20 ms cycles) for both inputs, 3 E2E errors, bend on with hl_ecu_bend_default(). */
+/*
+ * Camera behind the windscreen at (-1.8, 0, 1.3) m, level (hdlampd's restbus default); 5 %,
+ * 0.5°, 0.5, 40 km/h, 60 ms (three 20 ms cycles) for both inputs, 3 E2E errors, bend on with
+ * hl_ecu_bend_default().
+ */
 void hl_ecu_config_default(struct hl_ecu_config *ret);
 
 struct hl_ecu;

@@ -65,7 +65,7 @@ static void usage(FILE *f)
 		"--low/--high (preset files or built-in names).\n"
 		"\n"
 		"Positions in the vehicle frame (m; x forward, y left, z up; yaw left, pitch up, deg):\n"
-		"camera default -1.5,0,1.3; lamps 0,0.7,0.65 and 0,-0.7,0.65 pitched -0.573.\n"
+		"camera default -1.8,0,1.3; lamps 0,0.7,0.65 and 0,-0.7,0.65 pitched -0.573.\n"
 		"--timeout-ms: each input's timeout (default 3 of its GenMsgCycleTime); --margin-deg\n"
 		"(0.5) around each object; --window-fraction (0.05) of the high beam that makes a\n"
 		"source's window; --auto-kmh (40) auto high beam speed; --min-confidence (0.5).\n"
