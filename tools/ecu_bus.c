@@ -34,6 +34,8 @@ struct out_cycle {
 
 struct counters {
 	uint64_t cycles, frames_sent, tx_errors, skipped_deadlines, failsafe_cycles;
+	/* objects over the cycles that looked at them (one object in 50 cycles counts 50) */
+	uint64_t objects_relevant, objects_ignored, objects_invalid, sources_masked;
 	uint64_t mode_cycles[4];
 	uint64_t rx_frames, socket_losses; /* the socket closed by a failed read or send */
 	int64_t late_max_ns; /* how far after its deadline a cycle was computed */
@@ -94,7 +96,10 @@ static void print_summary(const struct counters *c, const struct hl_inputs_count
 	       c->failsafe_cycles);
 	for (int m = 0; m < 4; m++)
 		printf("%s\"%s\":%" PRIu64, m ? "," : "", hl_ecu_mode_name(m), c->mode_cycles[m]);
-	printf("},\"inputs\":{\"frames\":%" PRIu64 ",\"unknown_id\":%" PRIu64
+	printf("},\"object_cycles\":{\"relevant\":%" PRIu64 ",\"ignored\":%" PRIu64
+	       ",\"invalid\":%" PRIu64 "},\"sources_masked\":%" PRIu64,
+	       c->objects_relevant, c->objects_ignored, c->objects_invalid, c->sources_masked);
+	printf(",\"inputs\":{\"frames\":%" PRIu64 ",\"unknown_id\":%" PRIu64
 	       ",\"short_frames\":%" PRIu64 ",\"crc_errors\":%" PRIu64
 	       ",\"counter_repeated\":%" PRIu64 ",\"counter_lost\":%" PRIu64
 	       ",\"bad_values\":%" PRIu64 ",\"duplicates\":%" PRIu64 ",\"vehicle_states\":%" PRIu64
@@ -219,6 +224,10 @@ static int compute_cycle(struct ecu_run *r, int64_t t_deadline)
 	r->c.mode_cycles[st.mode]++;
 	if (st.failsafe)
 		r->c.failsafe_cycles++;
+	r->c.objects_relevant += (uint64_t)st.objects;
+	r->c.objects_ignored += (uint64_t)st.ignored;
+	r->c.objects_invalid += (uint64_t)st.invalid;
+	r->c.sources_masked += (uint64_t)(st.masked[0] + st.masked[1]);
 	if (!r->have_last || st.mode != r->last.mode || st.failsafe != r->last.failsafe)
 		print_mode(now, r->c.cycles, &st);
 	r->last = st;

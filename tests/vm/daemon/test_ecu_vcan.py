@@ -440,6 +440,10 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     assert summary["socket"]["kernel_drops"] == 0
     assert summary["tx_errors"] == 0
     assert summary["modes"]["high"] > 0 and summary["modes"]["glarefree"] > 0
+    # the car was relevant in the glare-free cycles that had it, and masked there
+    oc = summary["object_cycles"]
+    assert 0 < oc["relevant"] <= summary["modes"]["glarefree"]
+    assert oc["ignored"] == 0 and oc["invalid"] == 0 and summary["sources_masked"] > 0
     modes = [e for e in events if e.get("event") == "mode"]
     assert modes[-1]["mode"] == "low" and "vehicle_missing" in modes[-1]["failsafe"]
 
@@ -492,6 +496,9 @@ def test_ecu_ignore_objects_keeps_high_beam_and_hdlampd_accepts_it(hdlamp, tmp_p
         assert masked(windows, lamp, [ONCOMING])  # it would have masked these
     check_phase(cycles, t_on + 0.3, t_off, high, "ignore-objects")
     assert events[-1]["inputs"]["cycles_complete"] > 0
+    # the fault drops the car, counted: ignored, never relevant, nothing masked
+    oc = events[-1]["object_cycles"]
+    assert oc["relevant"] == 0 and oc["ignored"] > 0 and events[-1]["sources_masked"] == 0
     # hdlampd took every cycle: no CRC, counter or page error
     print("hdlampd:", json.dumps(summary["lamps"]))
     for lamp in ("left", "right"):
