@@ -39,6 +39,22 @@ static struct hl_scenario *load(const char *text)
 	return sc;
 }
 
+/* The shipped scenario NAME (scenarios/), and its driver's camera at w x h. */
+static struct hl_scenario *shipped(const char *name, int w, int h, struct hl_camera *cam)
+{
+	struct hl_scenario *sc = NULL;
+	struct hl_json_error err;
+	char path[4096], buf[1024];
+
+	snprintf(path, sizeof(path), "%s/scenarios/%s", getenv("HL_SOURCE_DIR"), name);
+	if (hl_scenario_read(path, &sc, &err) < 0)
+		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
+	*cam = sc->ego.camera;
+	cam->width = w;
+	cam->height = h;
+	return sc;
+}
+
 static void project_near(const struct hl_road *road, double x, double y, double s, double d)
 {
 	double gs, gd;
@@ -280,9 +296,7 @@ static int expected_ground(double s, double d, bool *ambiguous)
 static void straight_iihs_ground_and_markings(void **state)
 {
 	(void)state;
-	char path[4096], buf[1024];
 	struct hl_scenario *sc = NULL;
-	struct hl_json_error err;
 	struct hl_world_scene *ws;
 	struct hl_gbuffer *gb;
 	struct hl_world_state st;
@@ -290,13 +304,7 @@ static void straight_iihs_ground_and_markings(void **state)
 	const int w = 640, h = 360;
 	int counts[16] = { 0 }, checked = 0;
 
-	snprintf(path, sizeof(path), "%s/scenarios/iihs-approach-straight.json",
-		 getenv("HL_SOURCE_DIR"));
-	if (hl_scenario_read(path, &sc, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
-	cam = sc->ego.camera;
-	cam.width = w;
-	cam.height = h;
+	sc = shipped("iihs-approach-straight.json", w, h, &cam);
 	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
 	assert_int_equal(hl_gbuffer_new(w, h, &gb), 0);
 	hl_world_at(sc, 0.0, &st);
@@ -364,9 +372,7 @@ static void straight_iihs_ground_and_markings(void **state)
 static void curve_ground_matches_closed_form(void **state)
 {
 	(void)state;
-	char path[4096], buf[1024];
 	struct hl_scenario *sc = NULL;
-	struct hl_json_error err;
 	struct hl_world_scene *ws;
 	struct hl_gbuffer *gb;
 	struct hl_world_state st;
@@ -374,13 +380,7 @@ static void curve_ground_matches_closed_form(void **state)
 	const int w = 640, h = 360;
 	int counts[16] = { 0 }, checked = 0;
 
-	snprintf(path, sizeof(path), "%s/scenarios/iihs-approach-curve-250m-left.json",
-		 getenv("HL_SOURCE_DIR"));
-	if (hl_scenario_read(path, &sc, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
-	cam = sc->ego.camera;
-	cam.width = w;
-	cam.height = h;
+	sc = shipped("iihs-approach-curve-250m-left.json", w, h, &cam);
 	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
 	assert_int_equal(hl_gbuffer_new(w, h, &gb), 0);
 	for (double t = 0.0; t < 6.0; t += 1.9) {
@@ -445,9 +445,7 @@ static void curve_ground_matches_closed_form(void **state)
 static void no_allocation_per_frame(void **state)
 {
 	(void)state;
-	char path[4096], buf[1024];
 	struct hl_scenario *sc = NULL;
-	struct hl_json_error err;
 	struct hl_world_scene *ws;
 	struct hl_gbuffer *gb;
 	struct hl_world_state st;
@@ -457,13 +455,7 @@ static void no_allocation_per_frame(void **state)
 	long drawn = 0;
 	uint8_t *rgb = calloc(3 * 160 * 90, 1);
 
-	snprintf(path, sizeof(path), "%s/scenarios/iihs-approach-curve-250m-left.json",
-		 getenv("HL_SOURCE_DIR"));
-	if (hl_scenario_read(path, &sc, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
-	cam = sc->ego.camera;
-	cam.width = 160;
-	cam.height = 90;
+	sc = shipped("iihs-approach-curve-250m-left.json", 160, 90, &cam);
 	assert_non_null(rgb);
 	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
 	assert_int_equal(hl_gbuffer_new(160, 90, &gb), 0);
@@ -515,9 +507,7 @@ static void raster_frames_equal_full_renders(void **state)
 	static const double times[] = { 0.0, 0.02, 0.04, 1.5, 1.52, 3.0, 0.04, 5.9, 6.5 };
 	const int w = 320, h = 180;
 	const size_t n = (size_t)w * h, band = 7001; /* not a row's multiple */
-	char path[4096], buf[1024];
 	struct hl_scenario *sc = NULL;
-	struct hl_json_error err;
 	struct hl_world_scene *ws;
 	struct hl_world_raster *raster;
 	struct hl_gbuffer *gb, *ref;
@@ -527,12 +517,7 @@ static void raster_frames_equal_full_renders(void **state)
 	uint8_t *changed = malloc(n);
 	size_t total_changed = 0;
 
-	snprintf(path, sizeof(path), "%s/scenarios/demo-drive.json", getenv("HL_SOURCE_DIR"));
-	if (hl_scenario_read(path, &sc, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, buf, sizeof(buf)));
-	cam = sc->ego.camera;
-	cam.width = w;
-	cam.height = h;
+	sc = shipped("demo-drive.json", w, h, &cam);
 	assert_non_null(changed);
 	assert_int_equal(hl_world_scene_new(sc, &ws), 0);
 	assert_int_equal(hl_gbuffer_new(w, h, &gb), 0);
