@@ -190,6 +190,40 @@ static void track_errors(struct hl_can_socket *s, const struct canfd_frame *f)
 	}
 }
 
+int hl_can_socket_send(struct hl_can_socket *s, uint32_t can_id, const uint8_t *data, uint8_t len,
+		       bool fd)
+{
+	struct canfd_frame f = { .can_id = can_id, .len = len };
+	const size_t mtu = fd ? CANFD_MTU : CAN_MTU;
+	ssize_t n;
+	int rc;
+
+	/*
+	 * CAN FD lengths above 8: 12, 16, 20, 24, 32, 48, 64, the bytes of DLC 9..15 (ISO
+	 * 11898-1:2015 is not public; the table as a controller manual gives it: Microchip, "DLC
+	 * Encoding", https://onlinedocs.microchip.com/oxy/GUID-E48B4A26-F201-4F0A-BCBA-16461582816A-en-US-3/GUID-A706C28E-8EC4-4CB2-AC6F-D2F0B6233CE5.html)
+	 */
+	if (len > (fd ? CANFD_MAX_DLEN : CAN_MAX_DLEN) ||
+	    (len > 8 && len != 12 && len != 16 && len != 20 && len != 24 && len != 32 &&
+	     len != 48 && len != 64))
+		return -EINVAL;
+	if (s->fd < 0)
+		return -ENETDOWN;
+	if (fd && !s->st.fd_enabled)
+		return -EPROTONOSUPPORT;
+	memcpy(f.data, data, len);
+	n = send(s->fd, &f, mtu, MSG_DONTWAIT);
+	if (n == (ssize_t)mtu)
+		return 0;
+	if (n >= 0)
+		return -EIO; /* a raw CAN socket sends whole frames or none */
+	if (errno == EAGAIN || errno == ENOBUFS || errno == EINTR)
+		return errno == ENOBUFS ? -ENOBUFS : -EAGAIN;
+	rc = -errno;
+	close_socket(s);
+	return rc;
+}
+
 int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret)
 {
 	char ctrl[CMSG_SPACE(sizeof(struct scm_timestamping)) + CMSG_SPACE(sizeof(uint32_t)) +

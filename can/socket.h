@@ -83,6 +83,15 @@ int hl_can_socket_retry_ms(struct hl_can_socket *s);
 int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret);
 
 /*
+ * Sends one frame without blocking (the restbus): can_id with CAN_EFF_FLAG for an extended ID,
+ * len bytes (a classic frame: 0..8; CAN FD: a valid FD length up to 64). 0, -EAGAIN or -ENOBUFS
+ * when the interface's queue is full (nothing sent), -EPROTONOSUPPORT for a CAN FD frame on an
+ * interface without CAN FD, -EINVAL for a bad length, or -errno (-ENETDOWN, -ENODEV, ...) after
+ * which the socket is closed and must be reopened. The owner thread only.
+ */
+int hl_can_socket_send(struct hl_can_socket *s, uint32_t can_id, const uint8_t *data, uint8_t len,
+		       bool fd);
+/*
  * The kernel filter (CAN_RAW_FILTER) every open sets: its count, 0 for none (every ID passes),
  * and in *ret the filters, owned by s and fixed until hl_can_socket_free. Any thread.
  */

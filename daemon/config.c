@@ -39,6 +39,7 @@ enum kind {
 	MODES, /* MODE:ID+ID,MODE:ID,... (checked against the DBC and the sets at start) */
 	SETID, /* one set id (a file name in the regulations directory) */
 	UDP, /* udp:HOST:PORT as ADDRESS, or empty (off) */
+	TRIPLE, /* three numbers "a,b,c" into a double[3] (min, max bound each) */
 };
 
 /*
@@ -143,6 +144,24 @@ static const struct key keys[] = {
 	{ "pose", "listen", UDP, F(pose_listen), 0, 0,
 	  "udp:HOST:PORT for poses from a driving simulator (needs scene.scenario); empty = off",
 	  NULL },
+	{ "restbus", "interface", IFACE, F(restbus_interface), 0, 0,
+	  "SocketCAN interface the restbus sends the ECU's inputs on (needs scene.scenario); "
+	  "empty = off",
+	  NULL },
+	{ "restbus", "dbc", PATH, F(restbus_dbc), 0, 0,
+	  "the ECU's input database (HdlInput attributes); empty = the shipped hd84_inputs.dbc",
+	  NULL },
+	{ "restbus", "camera_pos_m", TRIPLE, F(restbus_camera_pos_m), -30, 30,
+	  "the front camera in the ego's body frame: x (forward), y (left), z (up), m", NULL },
+	{ "restbus", "fov_deg", PAIR, F(restbus_fov_deg), 1, 170,
+	  "the camera's horizontal and vertical field of view (full angles, degrees)", NULL },
+	{ "restbus", "range_m", DOUBLE, F(restbus_range_m), 1, 10000,
+	  "the camera's range: farther road users are not sent", NULL },
+	{ "restbus", "light_switch", ENUM, F(restbus_light_switch), 0, 0,
+	  "off | auto | low | high: the driver's light switch the restbus sends",
+	  "off|auto|low|high" },
+	{ "restbus", "adb_enable", BOOL, F(restbus_adb_enable), 0, 0,
+	  "the driver allows the glare-free high beam (ADB)", NULL },
 	{ "sched", "realtime_priority", INT, F(rt_priority), 0, 99,
 	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers), the frame "
 	  "stream thread one below; 0 = normal scheduling",
@@ -184,6 +203,14 @@ void hl_config_defaults(struct hl_config *c)
 	c->road_width_at_m[1] = 50.0;
 	strcpy(c->glare_set, "unece-r149-01-adb-glare");
 	c->glare_history = 3000;
+	c->restbus_camera_pos_m[0] = -1.8; /* behind the windscreen, at the mirror */
+	c->restbus_camera_pos_m[1] = 0.0;
+	c->restbus_camera_pos_m[2] = 1.3;
+	c->restbus_fov_deg[0] = 50.0;
+	c->restbus_fov_deg[1] = 30.0;
+	c->restbus_range_m = 250.0;
+	strcpy(c->restbus_light_switch, "auto");
+	c->restbus_adb_enable = true;
 }
 
 /* A set id is a file name in the regulations directory: letters, digits, '.', '_', '+', '-'. */
@@ -575,6 +602,26 @@ static int set_value(struct hl_config *cfg, const struct key *k, const char *val
 		memcpy(at, v, sizeof(v));
 		return 0;
 	}
+	case TRIPLE: {
+		double v[3] = { NAN, NAN, NAN };
+		const char *b = value;
+
+		for (int i = 0; i < 3; i++) {
+			v[i] = strtod(b, &end);
+			if (end == b || (i < 2 && *end != ',')) {
+				v[i] = NAN;
+				break;
+			}
+			b = end + 1;
+		}
+		if (*end || !(v[0] >= k->min && v[0] <= k->max) ||
+		    !(v[1] >= k->min && v[1] <= k->max) || !(v[2] >= k->min && v[2] <= k->max))
+			return bad(err, origin, line, k,
+				   "'%s': expected three numbers %g..%g, as X,Y,Z", value, k->min,
+				   k->max);
+		memcpy(at, v, sizeof(v));
+		return 0;
+	}
 	}
 	return -EINVAL;
 }
@@ -639,6 +686,8 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "can.replay_loop needs a file: standard input cannot be replayed again";
 	else if (cfg->pose_listen[0] && !cfg->scenario[0])
 		why = "pose.listen needs scene.scenario: the poses move its road users";
+	else if (cfg->restbus_interface[0] && !cfg->scenario[0])
+		why = "restbus.interface needs scene.scenario: the restbus sends its state";
 	if (why && err)
 		snprintf(err->msg, sizeof(err->msg), "%s", why);
 	return why ? -EINVAL : 0;
@@ -712,6 +761,12 @@ int hl_config_check_files(const struct hl_config *cfg, bool render, struct hl_co
 	if (cfg->scenario[0]) {
 		rc = check_path(cfg, F(scenario), cfg->scenario, false,
 				"a scenario file (docs/scenarios.md)", err);
+		if (rc < 0)
+			return rc;
+	}
+	if (cfg->restbus_interface[0] && cfg->restbus_dbc[0]) {
+		rc = check_path(cfg, F(restbus_dbc), cfg->restbus_dbc, false,
+				"a DBC file with HdlInput attributes (docs/ecu-inputs.md)", err);
 		if (rc < 0)
 			return rc;
 	}
@@ -800,6 +855,10 @@ static void print_value(const struct hl_config *cfg, const struct key *k, FILE *
 		break;
 	case PAIR:
 		fprintf(f, "%g,%g\n", ((const double *)at)[0], ((const double *)at)[1]);
+		break;
+	case TRIPLE:
+		fprintf(f, "%g,%g,%g\n", ((const double *)at)[0], ((const double *)at)[1],
+			((const double *)at)[2]);
 		break;
 	case FAILSAFE:
 		fprintf(f, "%s%s\n",

@@ -94,6 +94,14 @@ struct hl_config {
 	int glare_history; /* frames /glare.json keeps */
 	/* [pose] */
 	char pose_listen[HL_CONFIG_NAME]; /* udp:HOST:PORT of the pose input, or "" */
+	/* [restbus] */
+	char restbus_interface[HL_CONFIG_NAME]; /* SocketCAN interface of the restbus, or "" */
+	char restbus_dbc[HL_CONFIG_PATH]; /* the input database; "": the shipped hd84_inputs.dbc */
+	double restbus_camera_pos_m[3]; /* the camera, ego body frame */
+	double restbus_fov_deg[2]; /* horizontal, vertical field of view (full angles) */
+	double restbus_range_m;
+	char restbus_light_switch[HL_CONFIG_NAME]; /* off | auto | low | high */
+	bool restbus_adb_enable;
 	/* [sched] */
 	int rt_priority; /* SCHED_FIFO of the CAN and render threads (stream: one below); 0: off */
 	/* where each key of config.c's table was last set, by its index there */

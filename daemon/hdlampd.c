@@ -52,6 +52,8 @@ static void usage(FILE *f)
 		"                     every frame reports the glare at its road users' eyes\n"
 		"  --pose udp:H:P     = pose.listen: poses from a driving simulator, one JSON object\n"
 		"                     per datagram (needs --scenario)\n"
+		"  --restbus IFACE    = restbus.interface: send the ECU's inputs (vehicle state,\n"
+		"                     camera objects) from the scenario on IFACE (needs --scenario)\n"
 		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
 		"  --no-render        decode only: print to stdout instead of rendering\n"
 		"  --print-cycles     with --no-render: one JSON line per complete lamp cycle\n"
@@ -97,6 +99,7 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "ring-slots", required_argument, NULL, 's' },
 		{ "scenario", required_argument, NULL, 'A' },
 		{ "pose", required_argument, NULL, 'O' },
+		{ "restbus", required_argument, NULL, 'B' },
 		{ "no-render", no_argument, NULL, 'n' },
 		{ "print-cycles", no_argument, NULL, 'p' },
 		{ "print-config", no_argument, NULL, 'P' },
@@ -150,6 +153,9 @@ static int parse_options(int argc, char **argv, struct options *o)
 			break;
 		case 'O':
 			rc = add_override(o, "pose.listen", optarg, "--pose", optarg);
+			break;
+		case 'B':
+			rc = add_override(o, "restbus.interface", optarg, "--restbus", optarg);
 			break;
 		case 's':
 			v = strtol(optarg, &end, 10);

@@ -30,10 +30,12 @@
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/pose_input.h"
+#include "daemon/restbus.h"
 #include "daemon/status.h"
 #include "daemon/stream.h"
 #include "daemon/verdicts.h"
 #include "lamp/preset.h"
+#include "lamp/share_dir.h"
 
 #define POOL_FRAMES 8
 
@@ -63,6 +65,7 @@ struct live {
 	struct hl_regulation *glare_reg;
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose;
+	struct hl_restbus *restbus; /* restbus.interface: the ECU's inputs from the scenario */
 	bool config_error; /* setup failed on the configuration: exit 2 */
 	struct hl_http *http;
 	struct hl_capture_queue *captures; /* the one capture writer */
@@ -388,6 +391,62 @@ static int setup_scene(struct live *lv)
 }
 
 /*
+ * The restbus (restbus.interface): the input database (restbus.dbc, or the shipped
+ * hd84_inputs.dbc), the camera. A bad database or camera is a configuration error (exit 2).
+ */
+static int setup_restbus(struct live *lv)
+{
+	char dbc[HL_CONFIG_PATH + 32], msg[1024];
+	const char *sw = lv->cfg.restbus_light_switch;
+	struct hl_restbus_config rc_cfg = {
+		.iface = lv->cfg.restbus_interface,
+		.dbc = dbc,
+		.sc = lv->sc,
+		.pose = lv->pose,
+		.cam = { .pos_m = { lv->cfg.restbus_camera_pos_m[0],
+				    lv->cfg.restbus_camera_pos_m[1],
+				    lv->cfg.restbus_camera_pos_m[2] },
+			 .fov_h_deg = lv->cfg.restbus_fov_deg[0],
+			 .fov_v_deg = lv->cfg.restbus_fov_deg[1],
+			 .range_m = lv->cfg.restbus_range_m },
+		.light_switch = strcmp(sw, "off") == 0	? HL_SWITCH_OFF :
+				strcmp(sw, "low") == 0	? HL_SWITCH_LOW :
+				strcmp(sw, "high") == 0 ? HL_SWITCH_HIGH :
+							  HL_SWITCH_AUTO,
+		.adb_enable = lv->cfg.restbus_adb_enable,
+		.rt_priority = lv->cfg.rt_priority > 1 ? lv->cfg.rt_priority - 1 :
+							 lv->cfg.rt_priority,
+		.log = stderr,
+	};
+	int rc;
+
+	if (!lv->cfg.restbus_interface[0] || !lv->sc)
+		return 0;
+	if (lv->cfg.restbus_dbc[0]) {
+		snprintf(dbc, sizeof(dbc), "%s", lv->cfg.restbus_dbc);
+	} else if (hl_share_dir("dbc", dbc, sizeof(dbc) - 20) == 0) {
+		strcat(dbc, "/hd84_inputs.dbc");
+	} else {
+		log_msg("restbus.dbc: cannot find the shipped databases beside the binary; set "
+			"restbus.dbc");
+		lv->config_error = true;
+		return -ENOENT;
+	}
+	rc = hl_restbus_new(&rc_cfg, &lv->restbus, msg, sizeof(msg));
+	if (rc < 0) {
+		log_msg("%s", msg);
+		lv->config_error = rc == -EINVAL || rc == -ENOENT;
+		return rc;
+	}
+	log_msg("restbus on '%s' from '%s': camera at %g,%g,%g m, field of view %g x %g deg, "
+		"range %g m; light switch %s, ADB %s",
+		lv->cfg.restbus_interface, dbc, rc_cfg.cam.pos_m[0], rc_cfg.cam.pos_m[1],
+		rc_cfg.cam.pos_m[2], rc_cfg.cam.fov_h_deg, rc_cfg.cam.fov_v_deg, rc_cfg.cam.range_m,
+		sw, lv->cfg.restbus_adb_enable ? "enabled" : "disabled");
+	return 0;
+}
+
+/*
  * The test-only fault switch HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES=N (docs/daemon.md): the
  * render thread hangs after N frames, so that a test sees the systemd watchdog at work.
  */
@@ -499,6 +558,7 @@ static int setup_outputs(struct live *lv)
 		.verdicts = lv->verdicts,
 		.glare = lv->glare,
 		.pose = lv->pose,
+		.restbus = lv->restbus,
 	};
 	struct hl_capture_queue_config cq = {
 		.dir = lv->cfg.capture_dir,
@@ -583,6 +643,8 @@ static int setup(struct live *lv)
 		rc = setup_verdicts(lv);
 	if (rc == 0 && lv->args->render)
 		rc = setup_scene(lv);
+	if (rc == 0 && lv->args->render)
+		rc = setup_restbus(lv);
 	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
 		log_msg("scene.scenario '%s': not used with --no-render (no light to judge)%s",
 			lv->cfg.scenario, lv->cfg.pose_listen[0] ? "; pose.listen neither" : "");
@@ -618,6 +680,12 @@ static int setup(struct live *lv)
 			if (rc < 0)
 				log_msg("cannot start the pose input: %s", strerror(-rc));
 		}
+		if (rc == 0 && lv->restbus) {
+			/* on the render thread's scenario clock */
+			rc = hl_restbus_start(lv->restbus, hl_pipeline_scene_t0_ns(lv->pipe));
+			if (rc < 0)
+				log_msg("cannot start the restbus: %s", strerror(-rc));
+		}
 		if (rc < 0)
 			return rc;
 	} else {
@@ -650,6 +718,7 @@ static void teardown(struct live *lv)
 	hl_status_free(lv->status);
 	hl_http_free(lv->http); /* after the status that reads its counters */
 	hl_verdicts_free(lv->verdicts); /* after the pipeline and the status that read it */
+	hl_restbus_free(lv->restbus); /* after the status; before the pose and scenario it reads */
 	hl_pose_input_free(lv->pose); /* after the pipeline and the status that read them */
 	hl_glare_live_free(lv->glare);
 	hl_regulation_free(lv->glare_reg);
@@ -827,6 +896,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		if (lv.captures) /* what was asked for is written and counted */
 			hl_capture_queue_stop(lv.captures);
 		hl_pipeline_stop(lv.pipe);
+		hl_restbus_stop(lv.restbus);
 		hl_pose_input_stop(lv.pose);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);

@@ -755,6 +755,11 @@ void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
 	p->pose = pose;
 }
 
+int64_t hl_pipeline_scene_t0_ns(const struct hl_pipeline *p)
+{
+	return p->t_start_ns;
+}
+
 void hl_pipeline_debug_stall(struct hl_pipeline *p, uint64_t after_frames)
 {
 	p->stall_after_frames = after_frames;

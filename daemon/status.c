@@ -326,6 +326,8 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 		hl_glare_live_status_json(s->glare, fr, age_s, f);
 		hl_frame_pool_release(s->pool, fr);
 	}
+	if (s->restbus)
+		hl_restbus_status_json(s->restbus, f);
 	fputc('}', f);
 	n = ftell(f);
 	fclose(f);
@@ -425,5 +427,7 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 	}
 	if (s->pose)
 		pose_metrics(s->pose, &p);
+	if (s->restbus)
+		hl_restbus_metrics(s->restbus, &p);
 	return hl_prom_end(&p);
 }

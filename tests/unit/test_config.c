@@ -484,6 +484,47 @@ static void config_check_files_names_where_each_was_set(void **state)
 	unlink(path);
 }
 
+/* [restbus]: defaults, the camera's three numbers, and the scenario it needs. */
+static void config_restbus_keys(void **state)
+{
+	struct hl_config c;
+	struct hl_config_error err;
+
+	(void)state;
+	hl_config_defaults(&c);
+	assert_string_equal(c.restbus_interface, "");
+	assert_string_equal(c.restbus_dbc, "");
+	assert_true(c.restbus_camera_pos_m[0] == -1.8 && c.restbus_camera_pos_m[1] == 0 &&
+		    c.restbus_camera_pos_m[2] == 1.3);
+	assert_true(c.restbus_fov_deg[0] == 50 && c.restbus_fov_deg[1] == 30);
+	assert_true(c.restbus_range_m == 250);
+	assert_string_equal(c.restbus_light_switch, "auto");
+	assert_true(c.restbus_adb_enable);
+	assert_int_equal(hl_config_set_arg(&c, "restbus.camera_pos_m=-2.1,0.2,1.45", "cl", &err),
+			 0);
+	assert_true(c.restbus_camera_pos_m[0] == -2.1 && c.restbus_camera_pos_m[1] == 0.2 &&
+		    c.restbus_camera_pos_m[2] == 1.45);
+	assert_int_equal(hl_config_set_arg(&c, "restbus.camera_pos_m=1,2", "cl", &err), -EINVAL);
+	assert_string_equal(err.msg,
+			    "cl: key 'restbus.camera_pos_m': '1,2': expected three numbers "
+			    "-30..30, as X,Y,Z");
+	assert_int_equal(hl_config_set_arg(&c, "restbus.camera_pos_m=1,2,3,4", "cl", &err),
+			 -EINVAL);
+	assert_int_equal(hl_config_set_arg(&c, "restbus.camera_pos_m=1,2,31", "cl", &err), -EINVAL);
+	assert_int_equal(hl_config_set_arg(&c, "restbus.camera_pos_m=1,,3", "cl", &err), -EINVAL);
+	assert_true(c.restbus_camera_pos_m[2] == 1.45); /* untouched */
+	assert_int_equal(hl_config_set_arg(&c, "restbus.light_switch=dim", "cl", &err), -EINVAL);
+	assert_string_equal(err.msg, "cl: key 'restbus.light_switch': 'dim': expected off, auto, "
+				     "low or high");
+	assert_int_equal(hl_config_set_arg(&c, "can.interface=can0", "cl", &err), 0);
+	assert_int_equal(hl_config_set_arg(&c, "restbus.interface=can1", "cl", &err), 0);
+	assert_int_equal(hl_config_check(&c, &err), -EINVAL);
+	assert_string_equal(err.msg,
+			    "restbus.interface needs scene.scenario: the restbus sends its state");
+	assert_int_equal(hl_config_set_arg(&c, "scene.scenario=s.json", "cl", &err), 0);
+	assert_int_equal(hl_config_check(&c, &err), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -496,6 +537,7 @@ int main(void)
 		cmocka_unit_test(config_scene_and_view_names_are_the_renderers),
 		cmocka_unit_test(config_duplicate_key_warns_with_both_lines),
 		cmocka_unit_test(config_check_files_names_where_each_was_set),
+		cmocka_unit_test(config_restbus_keys),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
