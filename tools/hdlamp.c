@@ -19,6 +19,7 @@ static const struct command commands[] = {
 	  "write the drive as a candump log; check and write scenario files" },
 	{ "render", hl_cmd_render, "render a still of a scene lit by the lamps (PNG or EXR)" },
 	{ "glare", hl_cmd_glare, "the light at road users' eyes in a scenario and its limit" },
+	{ "ecu", hl_cmd_ecu, "the reference virtual headlamp ECU on a CAN interface" },
 };
 
 static void usage(FILE *f)
