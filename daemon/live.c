@@ -27,10 +27,12 @@
 #include "daemon/glare_live.h"
 #include "daemon/gpio.h"
 #include "daemon/http.h"
+#include "daemon/loop_latency.h"
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/pose_input.h"
 #include "daemon/restbus.h"
+#include "daemon/run_report.h"
 #include "daemon/status.h"
 #include "daemon/stream.h"
 #include "daemon/verdicts.h"
@@ -38,6 +40,7 @@
 #include "lamp/share_dir.h"
 
 #define POOL_FRAMES 8
+#define ECU_CYCLE_MS 20.0 /* the dimming period of docs/design.md §1 */
 
 struct live {
 	struct hl_config cfg;
@@ -66,6 +69,9 @@ struct live {
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose;
 	struct hl_restbus *restbus; /* restbus.interface: the ECU's inputs from the scenario */
+	/* the loop's latency and glare verdict (a scenario with a restbus or a report) */
+	struct hl_loop_latency *loop;
+	FILE *loop_events; /* loop.events when a file */
 	bool config_error; /* setup failed on the configuration: exit 2 */
 	struct hl_http *http;
 	struct hl_capture_queue *captures; /* the one capture writer */
@@ -84,6 +90,12 @@ static void log_msg(const char *fmt, ...)
 	vfprintf(stderr, fmt, ap);
 	fputc('\n', stderr);
 	va_end(ap);
+}
+
+/* The pool's subscriber: every published frame to the loop's judge (never blocks). */
+static void loop_frame(void *ud, const struct hl_frame *f)
+{
+	hl_loop_latency_frame(ud, f);
 }
 
 /* The pool's subscriber: the strobe toggles with every published frame. */
@@ -391,6 +403,46 @@ static int setup_scene(struct live *lv)
 }
 
 /*
+ * The loop's judge (daemon/loop_latency.h): with a scenario and a restbus, a report, an end or
+ * event lines asked for. loop.events opens here (a bad path is a configuration error).
+ */
+static int setup_loop(struct live *lv)
+{
+	struct hl_loop_latency_config lc = {
+		.sc = lv->sc,
+		.ecu_cycle_ms = ECU_CYCLE_MS,
+		.reaction_ms = lv->cfg.loop_reaction_ms,
+		.camera = lv->cfg.restbus_interface[0] != '\0',
+	};
+	int rc;
+
+	if (!lv->sc || !(lv->cfg.restbus_interface[0] || lv->cfg.loop_report[0] ||
+			 lv->cfg.loop_exit_at_end || lv->cfg.loop_events[0]))
+		return 0;
+	if (strcmp(lv->cfg.loop_events, "-") == 0) {
+		lc.events = stdout;
+	} else if (lv->cfg.loop_events[0]) {
+		lv->loop_events = fopen(lv->cfg.loop_events, "we");
+		if (!lv->loop_events) {
+			log_msg("loop.events '%s': %s; expected a file it can write",
+				lv->cfg.loop_events, strerror(errno));
+			lv->config_error = true;
+			return -errno;
+		}
+		lc.events = lv->loop_events;
+	}
+	rc = hl_loop_latency_new(&lc, &lv->loop);
+	if (rc < 0) {
+		log_msg("loop: %s", strerror(-rc));
+		return rc;
+	}
+	log_msg("loop: glare over a road user's limit allowed %g ms after it enters the camera's "
+		"view%s",
+		lc.reaction_ms, lc.camera ? "" : " (no restbus: none allowed)");
+	return 0;
+}
+
+/*
  * The restbus (restbus.interface): the input database (restbus.dbc, or the shipped
  * hd84_inputs.dbc), the camera. A bad database or camera is a configuration error (exit 2).
  */
@@ -417,6 +469,7 @@ static int setup_restbus(struct live *lv)
 		.rt_priority = lv->cfg.rt_priority > 1 ? lv->cfg.rt_priority - 1 :
 							 lv->cfg.rt_priority,
 		.log = stderr,
+		.loop = lv->loop,
 	};
 	int rc;
 
@@ -529,6 +582,11 @@ static int setup_renderer(struct live *lv, int n_src)
 		if (rc < 0)
 			return rc;
 	}
+	if (lv->loop) {
+		rc = hl_frame_pool_subscribe(lv->pool, loop_frame, lv->loop);
+		if (rc < 0)
+			return rc;
+	}
 	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
 		lv->watchdog_us = 0;
 	rc = debug_stall(lv);
@@ -559,6 +617,7 @@ static int setup_outputs(struct live *lv)
 		.glare = lv->glare,
 		.pose = lv->pose,
 		.restbus = lv->restbus,
+		.loop = lv->loop,
 	};
 	struct hl_capture_queue_config cq = {
 		.dir = lv->cfg.capture_dir,
@@ -644,6 +703,8 @@ static int setup(struct live *lv)
 	if (rc == 0 && lv->args->render)
 		rc = setup_scene(lv);
 	if (rc == 0 && lv->args->render)
+		rc = setup_loop(lv);
+	if (rc == 0 && lv->args->render)
 		rc = setup_restbus(lv);
 	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
 		log_msg("scene.scenario '%s': not used with --no-render (no light to judge)%s",
@@ -719,6 +780,11 @@ static void teardown(struct live *lv)
 	hl_http_free(lv->http); /* after the status that reads its counters */
 	hl_verdicts_free(lv->verdicts); /* after the pipeline and the status that read it */
 	hl_restbus_free(lv->restbus); /* after the status; before the pose and scenario it reads */
+	if (lv->loop && lv->pool)
+		hl_frame_pool_unsubscribe(lv->pool, loop_frame, lv->loop);
+	hl_loop_latency_free(lv->loop); /* after the restbus and the status that use it */
+	if (lv->loop_events)
+		fclose(lv->loop_events);
 	hl_pose_input_free(lv->pose); /* after the pipeline and the status that read them */
 	hl_glare_live_free(lv->glare);
 	hl_regulation_free(lv->glare_reg);
@@ -798,6 +864,53 @@ static bool watch(struct live *lv, struct hl_input_status *prev, bool *ready, in
 	return prev->done;
 }
 
+/* loop.exit_at_end on a live bus: the scenario's duration has passed on its clock (with a
+ * margin of END_MARGIN_NS, so the frames of its last instant are rendered and judged). */
+#define END_MARGIN_NS 100000000LL
+static bool scenario_over(struct live *lv)
+{
+	const int64_t t0 = hl_pipeline_scene_t0_ns(lv->pipe);
+
+	return lv->cfg.loop_exit_at_end && lv->sc && !lv->cfg.replay[0] && !lv->pose && t0 > 0 &&
+	       hl_clock_monotonic_ns() >= t0 + (int64_t)(lv->sc->duration_s * 1e9) + END_MARGIN_NS;
+}
+
+/* The run's report (loop.report) and the exit code its verdict gives: 0 held, 3 failed. */
+static int report(struct live *lv, const char *end, int code)
+{
+	const struct hl_run_report_sources src = {
+		.scenario_path = lv->cfg.scenario,
+		.sc = lv->sc,
+		.glare_set = lv->cfg.glare_set,
+		.n_lamps = lv->n_lamps,
+		.lamp_names = lv->lamp_names,
+		.in = lv->in,
+		.ring = lv->ring,
+		.pipe = lv->pipe,
+		.verdicts = lv->verdicts,
+		.loop = lv->loop,
+		.restbus = lv->restbus,
+		.end = end,
+	};
+	bool passed;
+	int rc;
+
+	hl_loop_latency_finish(lv->loop); /* every thread that fed it has stopped */
+	if (!lv->cfg.loop_report[0] && !lv->cfg.loop_exit_at_end)
+		return code;
+	passed = hl_run_report_passed(&src);
+	if (lv->cfg.loop_report[0]) {
+		rc = hl_run_report_write(&src, lv->cfg.loop_report);
+		if (rc < 0) {
+			log_msg("loop.report '%s': %s", lv->cfg.loop_report, strerror(-rc));
+			return 1;
+		}
+	}
+	log_msg("run ended (%s): verdict %s%s%s", end, passed ? "held" : "FAILED",
+		lv->cfg.loop_report[0] ? "; report in " : "", lv->cfg.loop_report);
+	return code == 0 && !passed ? 3 : code;
+}
+
 /* The status as one JSON line on stdout (at exit), in a buffer as large as it needs. */
 static void print_status(struct hl_status *st)
 {
@@ -825,6 +938,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	struct hl_input_status prev = { .link_up = false };
 	int64_t status_ns = 0;
 	bool ready = false, done = false;
+	const char *end = "signal";
 	sigset_t mask;
 	char msg[256]; /* a capture's answer: the queue logs it */
 	int sfd, rc, code = 1;
@@ -854,6 +968,14 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		struct signalfd_siginfo si;
 
 		done = lv.pipe ? watch(&lv, &prev, &ready, &status_ns) : print_pending(&lv);
+		if (done)
+			end = "replay_end";
+		if (lv.loop && !lv.restbus) /* no restbus thread: this one judges the frames */
+			hl_loop_latency_drain(lv.loop, INFINITY);
+		if (!done && lv.pipe && scenario_over(&lv)) {
+			end = "scenario_end";
+			done = true;
+		}
 		if (done) {
 			/* a finite replay ended: let the last frame out, then stop */
 			if (lv.pipe)
@@ -861,7 +983,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			code = 0;
 			break;
 		}
-		if (poll(pfd, 3, lv.pipe ? 200 : 100) <= 0)
+		if (poll(pfd, 3, lv.pipe ? (lv.cfg.loop_exit_at_end ? 20 : 200) : 100) <= 0)
 			continue;
 		if (pfd[2].revents & POLLIN)
 			hl_ring_wait(lv.ring, 0); /* reset: the next turn pops what came */
@@ -900,6 +1022,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		hl_pose_input_stop(lv.pose);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);
+		if (lv.loop)
+			code = report(&lv, end, code);
 		print_status(lv.status);
 	} else if (rc == 0) {
 		hl_can_input_stop(lv.in); /* joined: everything it pushed is in the ring */
