@@ -58,8 +58,8 @@ struct hl_loop_latency {
 	int n_events;
 };
 
-static const double latency_bounds_ms[] = { 10,	 20,  30,  40,	50,  60,   80,	 100,
-					    120, 160, 200, 300, 500, 1000, 2000, 5000 };
+static const double latency_bounds_s[] = { 10,	20,  30,  40,  50,  60,	  80,	100,
+					   120, 160, 200, 300, 500, 1000, 2000, 5000 };
 static const char *const stage_names[3] = { "input", "mask", "frame" };
 
 int hl_loop_latency_new(const struct hl_loop_latency_config *cfg, struct hl_loop_latency **ret)
@@ -80,8 +80,8 @@ int hl_loop_latency_new(const struct hl_loop_latency_config *cfg, struct hl_loop
 	atomic_init(&ll->dropped, 0);
 	for (int s = 0; s < 3; s++)
 		hl_prom_histogram_init(
-			&ll->c.latency_ms[s], latency_bounds_ms,
-			(int)(sizeof(latency_bounds_ms) / sizeof(latency_bounds_ms[0])));
+			&ll->c.latency_s[s], latency_bounds_s,
+			(int)(sizeof(latency_bounds_s) / sizeof(latency_bounds_s[0])));
 	rc = hl_mutex_init_pi(&ll->lock);
 	if (rc < 0) {
 		free(ll);
@@ -202,12 +202,12 @@ static void emit(struct hl_loop_latency *ll, const struct hl_loop_event *e)
 	else
 		ll->c.events_not_kept++;
 	if (e->enter && e->masked) {
-		hl_prom_histogram_observe(&ll->c.latency_ms[0],
-					  ms_between(e->t_enter_ns, e->t_input_ns));
-		hl_prom_histogram_observe(&ll->c.latency_ms[1],
-					  ms_between(e->t_enter_ns, e->t_mask_ns));
-		hl_prom_histogram_observe(&ll->c.latency_ms[2],
-					  ms_between(e->t_enter_ns, e->t_frame_ns));
+		hl_prom_histogram_observe(&ll->c.latency_s[0],
+					  ms_between(e->t_enter_ns, e->t_input_ns) / 1e3);
+		hl_prom_histogram_observe(&ll->c.latency_s[1],
+					  ms_between(e->t_enter_ns, e->t_mask_ns) / 1e3);
+		hl_prom_histogram_observe(&ll->c.latency_s[2],
+					  ms_between(e->t_enter_ns, e->t_frame_ns) / 1e3);
 	} else if (e->enter) {
 		ll->c.unmasked++;
 	}
@@ -449,7 +449,7 @@ static void summary_json(struct hl_loop_latency *ll, const struct hl_loop_counts
 		c->events_not_kept, c->unmasked);
 	for (int s = 0; s < 3; s++) {
 		fprintf(f, "%s\"%s\":{\"n\":%" PRIu64 ",\"p50\":", s ? "," : "", stage_names[s],
-			c->latency_ms[s].count);
+			c->latency_s[s].count);
 		json_num(f, percentile(ll, s, 0.5));
 		fputs(",\"p99\":", f);
 		json_num(f, percentile(ll, s, 0.99));
@@ -516,13 +516,13 @@ void hl_loop_latency_metrics(struct hl_loop_latency *ll, struct hl_prom *p)
 	struct hl_loop_counts c;
 
 	hl_loop_latency_counts(ll, &c);
-	hl_prom_family(p, "hdlamp_loop_latency_ms", HL_PROM_HISTOGRAM,
+	hl_prom_family(p, "hdlamp_loop_latency_seconds", HL_PROM_HISTOGRAM,
 		       "Closed-loop latency per road user entering the camera's view, from the "
-		       "camera cycle that first carried it to the stage (ms).");
+		       "camera cycle that first carried it to the stage (s).");
 	for (int s = 0; s < 3; s++)
-		hl_prom_histogram(p, "hdlamp_loop_latency_ms",
+		hl_prom_histogram(p, "hdlamp_loop_latency_seconds",
 				  (const char *const[]){ "stage", stage_names[s], NULL },
-				  &c.latency_ms[s]);
+				  &c.latency_s[s]);
 	hl_prom_family(p, "hdlamp_loop_events_total", HL_PROM_COUNTER,
 		       "Road users entering or leaving the camera's view (and open at the end).");
 	hl_prom_counter(p, "hdlamp_loop_events_total", NULL, c.events);

@@ -91,7 +91,7 @@ struct hl_loop_counts {
 	uint64_t unmasked; /* enter events no frame masked before the user left or the run ended */
 	int n_actors;
 	struct hl_loop_actor actor[HL_SCN_MAX_ACTORS];
-	struct hl_prom_histogram latency_ms[3]; /* input, mask, frame (enter events) */
+	struct hl_prom_histogram latency_s[3]; /* input, mask, frame (masked enters), s */
 };
 
 struct hl_loop_latency;
@@ -132,7 +132,7 @@ void hl_loop_event_json(const struct hl_loop_latency *ll, const struct hl_loop_e
 void hl_loop_latency_status_json(struct hl_loop_latency *ll, FILE *f);
 /* "loop":{...} for the run's report: per road user and every kept event. */
 void hl_loop_latency_report_json(struct hl_loop_latency *ll, FILE *f);
-/* hdlamp_loop_latency_ms (histogram by stage), hdlamp_loop_* counters. */
+/* hdlamp_loop_latency_seconds (histogram by stage), hdlamp_loop_* counters. */
 void hl_loop_latency_metrics(struct hl_loop_latency *ll, struct hl_prom *p);
 
 #endif

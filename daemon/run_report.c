@@ -82,9 +82,9 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 	json_string(f, s->end);
 	fprintf(f,
 		",\"frames\":{\"rendered\":%" PRIu64 ",\"not_published\":%" PRIu64
-		"},\"snapshots\":{\"pushed\":%" PRIu64 ",\"superseded\":%" PRIu64
+		",\"render_ms_max\":%.3f},\"snapshots\":{\"pushed\":%" PRIu64 ",\"superseded\":%" PRIu64
 		",\"dropped\":%" PRIu64 "},\"cycles\":{",
-		pc.frames, pc.not_published, rc.pushed, rc.superseded, rc.dropped);
+		pc.frames, pc.not_published, pc.render_ms_max, rc.pushed, rc.superseded, rc.dropped);
 	for (int l = 0; l < s->n_lamps; l++) {
 		const struct hl_lamp_counters *lc = &st.lamps[l];
 		const uint64_t nr = pc.cycles_not_rendered[l];
