@@ -237,9 +237,10 @@ static int relevant_objects(const struct hl_ecu *e, bool *rel, struct hl_ecu_sta
 		rel[i] = false;
 		if (!object_valid(o))
 			st->invalid++;
-		else if (!cls || !(o->confidence >= e->c.min_confidence))
+		else if (!cls || !(o->confidence >= e->c.min_confidence) ||
+			 (e->c.faults & HL_ECU_FAULT_IGNORE_OBJECTS))
 			st->ignored++;
-		else if (!(e->c.faults & HL_ECU_FAULT_IGNORE_OBJECTS))
+		else
 			rel[i] = true, n++;
 	}
 	return n;

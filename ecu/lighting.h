@@ -21,7 +21,8 @@
  *      side, and every source whose window (ecu/windows.h) overlaps it is switched off (0).
  * A relevant object is one of class oncoming, preceding or pedestrian with confidence >=
  * min_confidence, a finite box with h_left <= h_right and v_bottom <= v_top, and a distance
- * > 0; others are counted in hl_ecu_status (ignored, invalid), never masked.
+ * > 0; others are counted in hl_ecu_status (ignored, invalid), never masked. Under the fault
+ * ignore-objects every valid object is counted as ignored.
  *
  * Thread-safety: an hl_ecu belongs to one thread. Nothing allocates after hl_ecu_new().
  */
@@ -89,7 +90,8 @@ struct hl_ecu_status {
 	unsigned failsafe; /* enum hl_ecu_failsafe bits, 0: inputs valid */
 	double swivel_deg; /* bend, positive left */
 	int objects; /* relevant objects this cycle */
-	int ignored; /* valid objects of other classes or below min_confidence */
+	int ignored; /* valid objects of other classes, below min_confidence, or all valid ones
+		      * under HL_ECU_FAULT_IGNORE_OBJECTS */
 	int invalid; /* objects with a non-finite or inverted box or distance <= 0 */
 	int masked[HL_ECU_MAX_LAMPS]; /* sources switched off for objects, per lamp */
 };

@@ -8,20 +8,17 @@
 
 #include <errno.h>
 #include <inttypes.h>
-#include <net/if.h>
 #include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/signalfd.h>
-#include <sys/socket.h>
 #include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <linux/can.h>
-#include <linux/can/raw.h>
 
 #include "can/socket.h"
 #include "tools/json_out.h"
@@ -37,8 +34,10 @@ struct out_cycle {
 
 struct counters {
 	uint64_t cycles, frames_sent, tx_errors, skipped_deadlines, failsafe_cycles;
+	/* objects over the cycles that looked at them (one object in 50 cycles counts 50) */
+	uint64_t objects_relevant, objects_ignored, objects_invalid, sources_masked;
 	uint64_t mode_cycles[4];
-	uint64_t rx_frames, rx_errors, reopens, tx_reopens;
+	uint64_t rx_frames, socket_losses; /* the socket closed by a failed read or send */
 	int64_t late_max_ns; /* how far after its deadline a cycle was computed */
 };
 
@@ -56,56 +55,6 @@ static int64_t real_ns(void)
 
 	clock_gettime(CLOCK_REALTIME, &ts);
 	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
-/* The sending socket: raw CAN on iface, CAN FD frames allowed when fd. */
-static int tx_open(const char *iface, bool fd)
-{
-	struct sockaddr_can addr = { .can_family = AF_CAN };
-	const int on = 1;
-	const struct can_filter none = { .can_id = 0, .can_mask = CAN_EFF_FLAG | CAN_RTR_FLAG };
-	int s;
-
-	addr.can_ifindex = (int)if_nametoindex(iface);
-	if (addr.can_ifindex == 0)
-		return -ENODEV;
-	s = socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
-	if (s < 0)
-		return -errno;
-	/* it only sends: a filter no frame passes (an 11-bit ID 0 that must be extended) */
-	if (setsockopt(s, SOL_CAN_RAW, CAN_RAW_FILTER, &none, sizeof(none)) < 0 ||
-	    (fd && setsockopt(s, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof(on)) < 0) ||
-	    bind(s, (struct sockaddr *)&addr, sizeof(addr)) < 0) {
-		const int rc = -errno;
-
-		close(s);
-		return rc;
-	}
-	return s;
-}
-
-/* Sends one cycle's frames; returns the last failed write's -errno, 0 when all went out. */
-static int send_cycle(int tx, const struct out_cycle *oc, struct counters *cnt)
-{
-	int rc = 0;
-
-	for (int l = 0; l < 2; l++) {
-		for (int i = 0; i < oc->n[l]; i++) {
-			const struct hl_encoded_frame *e = &oc->frames[l][i];
-			struct canfd_frame f = e->frame;
-			const size_t size = e->fd ? CANFD_MTU : CAN_MTU;
-
-			if (e->fd)
-				f.flags |= CANFD_BRS;
-			if (tx >= 0 && write(tx, &f, size) == (ssize_t)size) {
-				cnt->frames_sent++;
-				continue;
-			}
-			cnt->tx_errors++;
-			rc = tx < 0 ? -ENODEV : -errno;
-		}
-	}
-	return rc;
 }
 
 static const char *const failsafe_names[] = { "vehicle_missing", "objects_missing", "vehicle_e2e",
@@ -147,7 +96,10 @@ static void print_summary(const struct counters *c, const struct hl_inputs_count
 	       c->failsafe_cycles);
 	for (int m = 0; m < 4; m++)
 		printf("%s\"%s\":%" PRIu64, m ? "," : "", hl_ecu_mode_name(m), c->mode_cycles[m]);
-	printf("},\"inputs\":{\"frames\":%" PRIu64 ",\"unknown_id\":%" PRIu64
+	printf("},\"object_cycles\":{\"relevant\":%" PRIu64 ",\"ignored\":%" PRIu64
+	       ",\"invalid\":%" PRIu64 "},\"sources_masked\":%" PRIu64,
+	       c->objects_relevant, c->objects_ignored, c->objects_invalid, c->sources_masked);
+	printf(",\"inputs\":{\"frames\":%" PRIu64 ",\"unknown_id\":%" PRIu64
 	       ",\"short_frames\":%" PRIu64 ",\"crc_errors\":%" PRIu64
 	       ",\"counter_repeated\":%" PRIu64 ",\"counter_lost\":%" PRIu64
 	       ",\"bad_values\":%" PRIu64 ",\"duplicates\":%" PRIu64 ",\"vehicle_states\":%" PRIu64
@@ -157,10 +109,10 @@ static void print_summary(const struct counters *c, const struct hl_inputs_count
 	       in->counter_lost, in->bad_values, in->duplicates, in->vehicle_states,
 	       in->object_frames, in->cycles_complete, in->cycles_incomplete);
 	printf(",\"socket\":{\"frames\":%" PRIu64 ",\"kernel_drops\":%" PRIu64
-	       ",\"error_frames\":%" PRIu64 ",\"read_errors\":%" PRIu64 ",\"reopens\":%" PRIu64
-	       ",\"tx_reopens\":%" PRIu64 "}}\n",
-	       ss->frames, ss->kernel_drops, ss->error_frames, c->rx_errors, c->reopens,
-	       c->tx_reopens);
+	       ",\"error_frames\":%" PRIu64 ",\"losses\":%" PRIu64 ",\"opens\":%" PRIu64
+	       ",\"closes\":%" PRIu64 "}}\n",
+	       ss->frames, ss->kernel_drops, ss->error_frames, c->socket_losses, ss->opens,
+	       ss->closes);
 	fflush(stdout);
 }
 
@@ -171,17 +123,50 @@ struct ecu_run {
 	const struct hl_inputs_map *map;
 	struct hl_inputs_decoder *dec;
 	struct hl_ecu *e;
-	struct hl_can_socket *rx;
-	int tx, tfd, sfd;
-	bool tx_fd; /* the dimming frames include CAN FD ones */
+	struct hl_can_socket *s; /* receives the inputs (kernel filter) and sends the frames */
+	int tfd, sfd;
 	struct out_cycle *q; /* ring of pending cycles */
 	int q_size, q_head, q_len;
 	unsigned counter[2];
 	struct counters c;
 	struct hl_ecu_status last;
 	bool have_last;
-	int64_t rx_retry_ns; /* when to reopen a closed receive socket, 0: open */
+	int64_t retry_ns; /* when to reopen the closed socket, 0: open */
 };
+
+/* A read or send found the interface down or gone and closed the socket: reopen later. */
+static void socket_lost(struct ecu_run *r, int rc, const char *what)
+{
+	r->c.socket_losses++;
+	fprintf(stderr, "hdlamp ecu: can: '%s': %s: %s, reopening\n", r->o->iface, what,
+		strerror(-rc));
+	r->retry_ns = mono_ns() + (int64_t)hl_can_socket_retry_ms(r->s) * 1000000;
+}
+
+/* Sends one cycle's frames; a frame that cannot go is counted, never retried. */
+static void send_cycle(struct ecu_run *r, const struct out_cycle *oc)
+{
+	for (int l = 0; l < 2; l++) {
+		for (int i = 0; i < oc->n[l]; i++) {
+			const struct hl_encoded_frame *e = &oc->frames[l][i];
+			int rc;
+
+			if (r->retry_ns) {
+				r->c.tx_errors++;
+				continue;
+			}
+			rc = hl_can_socket_send(r->s, e->frame.can_id, e->frame.data, e->frame.len,
+						e->fd);
+			if (rc == 0) {
+				r->c.frames_sent++;
+				continue;
+			}
+			r->c.tx_errors++;
+			if (hl_can_socket_fd(r->s) < 0)
+				socket_lost(r, rc, "send");
+		}
+	}
+}
 
 /* Drains the receive socket into the ECU. */
 static void receive(struct ecu_run *r)
@@ -190,7 +175,7 @@ static void receive(struct ecu_run *r)
 	const int64_t mono_minus_real = mono_ns() - real_ns();
 	int rc;
 
-	while ((rc = hl_can_socket_read(r->rx, &f)) == 1) {
+	while ((rc = hl_can_socket_read(r->s, &f)) == 1) {
 		struct hl_vehicle_state vs;
 		struct hl_camera_objects ob;
 		/* the kernel's receive time, on the monotonic clock the deadlines run on */
@@ -221,12 +206,8 @@ static void receive(struct ecu_run *r)
 			}
 		}
 	}
-	if (rc < 0) {
-		r->c.rx_errors++;
-		fprintf(stderr, "hdlamp ecu: can: '%s': %s, reopening\n", r->o->iface,
-			strerror(-rc));
-		r->rx_retry_ns = mono_ns() + (int64_t)hl_can_socket_retry_ms(r->rx) * 1000000;
-	}
+	if (rc < 0)
+		socket_lost(r, rc, "receive");
 }
 
 /* Computes the cycle of deadline t_deadline and queues (or sends) its frames. */
@@ -243,6 +224,10 @@ static int compute_cycle(struct ecu_run *r, int64_t t_deadline)
 	r->c.mode_cycles[st.mode]++;
 	if (st.failsafe)
 		r->c.failsafe_cycles++;
+	r->c.objects_relevant += (uint64_t)st.objects;
+	r->c.objects_ignored += (uint64_t)st.ignored;
+	r->c.objects_invalid += (uint64_t)st.invalid;
+	r->c.sources_masked += (uint64_t)(st.masked[0] + st.masked[1]);
 	if (!r->have_last || st.mode != r->last.mode || st.failsafe != r->last.failsafe)
 		print_mode(now, r->c.cycles, &st);
 	r->last = st;
@@ -271,21 +256,7 @@ static int compute_cycle(struct ecu_run *r, int64_t t_deadline)
 static void send_due(struct ecu_run *r, int64_t now)
 {
 	while (r->q_len > 0 && r->q[r->q_head].due_ns <= now) {
-		int rc;
-
-		/* an interface deleted and added again: the old socket is bound to nothing */
-		if (r->tx < 0) {
-			r->tx = tx_open(r->o->iface, r->tx_fd);
-			if (r->tx >= 0)
-				r->c.tx_reopens++;
-		}
-		rc = send_cycle(r->tx, &r->q[r->q_head], &r->c);
-
-		/* raw CAN's send: -ENXIO when its interface is gone, -ENETDOWN while it is down */
-		if ((rc == -ENXIO || rc == -ENODEV) && r->tx >= 0) {
-			close(r->tx);
-			r->tx = -1;
-		}
+		send_cycle(r, &r->q[r->q_head]);
 		r->q_head = (r->q_head + 1) % r->q_size;
 		r->q_len--;
 	}
@@ -307,15 +278,15 @@ static int run_loop(struct ecu_run *r)
 		struct pollfd p[3] = {
 			{ .fd = r->tfd, .events = POLLIN },
 			{ .fd = r->sfd, .events = POLLIN },
-			{ .fd = r->rx_retry_ns ? -1 : hl_can_socket_fd(r->rx), .events = POLLIN },
+			{ .fd = r->retry_ns ? -1 : hl_can_socket_fd(r->s), .events = POLLIN },
 		};
 		int64_t wake = next, now;
 		int rc;
 
 		if (r->q_len > 0 && r->q[r->q_head].due_ns < wake)
 			wake = r->q[r->q_head].due_ns;
-		if (r->rx_retry_ns && r->rx_retry_ns < wake)
-			wake = r->rx_retry_ns;
+		if (r->retry_ns && r->retry_ns < wake)
+			wake = r->retry_ns;
 		rc = arm(r->tfd, wake);
 		if (rc < 0)
 			return rc;
@@ -339,17 +310,14 @@ static int run_loop(struct ecu_run *r)
 				return -errno;
 		}
 		now = mono_ns();
-		if (r->rx_retry_ns && now >= r->rx_retry_ns) {
-			r->rx_retry_ns = 0;
-			if (hl_can_socket_open(r->rx) < 0)
-				r->rx_retry_ns =
-					now + (int64_t)hl_can_socket_retry_ms(r->rx) * 1000000;
-			else
-				r->c.reopens++;
+		if (r->retry_ns && now >= r->retry_ns) {
+			r->retry_ns = 0;
+			if (hl_can_socket_open(r->s) < 0)
+				r->retry_ns = now + (int64_t)hl_can_socket_retry_ms(r->s) * 1000000;
 		}
 		if (now >= next && (!r->o->cycles || r->c.cycles < (uint64_t)r->o->cycles)) {
 			/* take what arrived up to the deadline first */
-			if (!r->rx_retry_ns)
+			if (!r->retry_ns)
 				receive(r);
 			rc = compute_cycle(r, next);
 			if (rc < 0)
@@ -380,9 +348,9 @@ static int setup_io(struct ecu_run *r)
 
 		ids[i] = m->id | (m->extended ? CAN_EFF_FLAG : 0);
 	}
-	rc = hl_can_socket_new(r->o->iface, ids, n_ids, &r->rx);
+	rc = hl_can_socket_new(r->o->iface, ids, n_ids, &r->s);
 	if (rc == 0)
-		rc = hl_can_socket_open(r->rx);
+		rc = hl_can_socket_open(r->s);
 	if (rc < 0) {
 		fprintf(stderr, "hdlamp ecu: can: '%s': %s\n", r->o->iface, strerror(-rc));
 		return rc;
@@ -395,12 +363,17 @@ static int setup_io(struct ecu_run *r)
 		for (int i = 0; i < n; i++)
 			fd |= f[i].fd;
 	}
-	r->tx_fd = fd;
-	r->tx = tx_open(r->o->iface, fd);
-	if (r->tx < 0) {
-		fprintf(stderr, "hdlamp ecu: can: '%s': cannot send: %s\n", r->o->iface,
-			strerror(-r->tx));
-		return r->tx;
+	{
+		struct hl_can_socket_stats ss;
+
+		hl_can_socket_stats(r->s, &ss);
+		if (fd && !ss.fd_enabled) {
+			fprintf(stderr,
+				"hdlamp ecu: can: '%s': the dimming database has CAN FD frames, the "
+				"interface is classic CAN only (MTU 16)\n",
+				r->o->iface);
+			return -EPROTONOSUPPORT;
+		}
 	}
 	r->tfd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
 	sigemptyset(&mask);
@@ -432,7 +405,6 @@ int hl_ecu_bus_run(const struct hl_ecu_bus_opts *o, const struct hl_ecu_config *
 		.map = map,
 		.dec = dec,
 		.e = e,
-		.tx = -1,
 		.tfd = -1,
 		.sfd = -1,
 	};
@@ -451,17 +423,15 @@ int hl_ecu_bus_run(const struct hl_ecu_bus_opts *o, const struct hl_ecu_config *
 	} else {
 		struct hl_can_socket_stats ss;
 
-		hl_can_socket_stats(r.rx, &ss);
+		hl_can_socket_stats(r.s, &ss);
 		print_summary(&r.c, hl_inputs_decoder_counters(r.dec), &ss);
 	}
 out:
-	if (r.tx >= 0)
-		close(r.tx);
 	if (r.tfd >= 0)
 		close(r.tfd);
 	if (r.sfd >= 0)
 		close(r.sfd);
 	free(r.q);
-	hl_can_socket_free(r.rx);
+	hl_can_socket_free(r.s);
 	return rc;
 }

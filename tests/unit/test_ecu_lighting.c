@@ -405,6 +405,8 @@ static void lighting_faults(void **state)
 	hl_ecu_step(e, T0, &st);
 	assert_int_equal(st.mode, HL_ECU_GLAREFREE);
 	assert_int_equal(st.masked[0] + st.masked[1], 0);
+	assert_int_equal(st.objects, 0);
+	assert_int_equal(st.ignored, 1); /* dropped by the fault, counted */
 	assert_beam(e, f->high);
 	feed(e, HL_SWITCH_AUTO, false, 20, &o, T0);
 	hl_ecu_step(e, T0, &st);

@@ -192,8 +192,10 @@ def dimming_layout():
 
 def dimming_cycles(frames, layout):
     """Each lamp's complete cycles [t_first, t_last, counter, dims] from the recorded frames,
-    every CRC checked, every page of one counter value collected."""
-    cycles = {"left": [], "right": []}
+    every CRC checked, every page of one counter value collected. Cycles the recorder saw only
+    in part (it missed frames: a Python receiver in a slow VM) are kept in .partial, by lamp,
+    as (t_first, counter)."""
+    cycles = Cycles(left=[], right=[])
     cur = {}
     bad = 0
     for t, mid, hexdata in frames:
@@ -208,6 +210,8 @@ def dimming_cycles(frames, layout):
         word = int.from_bytes(data, "little")
         c = cur.get(lamp)
         if c is None or c["counter"] != counter:
+            if c is not None:
+                cycles.partial[lamp].append((c["t0"], c["counter"]))
             c = cur[lamp] = {"counter": counter, "pages": {}, "t0": t}
         c["pages"][page] = [(word >> (16 + 6 * j)) & 63 for j in range(8)]
         c["t1"] = t
@@ -217,6 +221,12 @@ def dimming_cycles(frames, layout):
             cur[lamp] = None
     assert bad == 0, f"{bad} dimming frames with a wrong CRC"
     return cycles
+
+
+class Cycles(dict):
+    def __init__(self, **kw):
+        super().__init__(**kw)
+        self.partial = {lamp: [] for lamp in kw}
 
 
 def preset(hdlamp, tmp_path, name):
@@ -322,11 +332,19 @@ def check_phase(cycles, t_from, t_to, want, what, at_least=10):
 
 
 def counters_step(cycles):
-    """Alive counters step by one per cycle (0..14, wrapping)."""
+    """Alive counters step by one per cycle (0..14, wrapping). A gap is allowed only where the
+    recorder saw the missing counter values in part (it missed frames, the ECU did not skip a
+    cycle); hdlampd's lost_cycles is the receiver's own check of the same."""
     for lamp in ("left", "right"):
-        cs = [c[2] for c in cycles[lamp]]
-        steps = [(b - a) % 15 for a, b in zip(cs, cs[1:])]
-        assert all(s == 1 for s in steps), (lamp, steps)
+        cs = cycles[lamp]
+        partial = cycles.partial[lamp]
+        for a, b in zip(cs, cs[1:]):
+            if (b[2] - a[2]) % 15 == 1:
+                continue
+            seen = sorted(c for t, c in partial if a[0] < t < b[0])
+            want = sorted((a[2] + k) % 15 for k in range(1, (b[2] - a[2]) % 15 or 15))
+            assert seen == want, (lamp, a[0], a[2], b[2], seen)
+            print(f"{lamp}: the recorder missed frames of {len(want)} cycle(s) at {a[0]:.3f}")
 
 
 def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
@@ -422,6 +440,10 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     assert summary["socket"]["kernel_drops"] == 0
     assert summary["tx_errors"] == 0
     assert summary["modes"]["high"] > 0 and summary["modes"]["glarefree"] > 0
+    # the car was relevant in the glare-free cycles that had it, and masked there
+    oc = summary["object_cycles"]
+    assert 0 < oc["relevant"] <= summary["modes"]["glarefree"]
+    assert oc["ignored"] == 0 and oc["invalid"] == 0 and summary["sources_masked"] > 0
     modes = [e for e in events if e.get("event") == "mode"]
     assert modes[-1]["mode"] == "low" and "vehicle_missing" in modes[-1]["failsafe"]
 
@@ -474,6 +496,9 @@ def test_ecu_ignore_objects_keeps_high_beam_and_hdlampd_accepts_it(hdlamp, tmp_p
         assert masked(windows, lamp, [ONCOMING])  # it would have masked these
     check_phase(cycles, t_on + 0.3, t_off, high, "ignore-objects")
     assert events[-1]["inputs"]["cycles_complete"] > 0
+    # the fault drops the car, counted: ignored, never relevant, nothing masked
+    oc = events[-1]["object_cycles"]
+    assert oc["relevant"] == 0 and oc["ignored"] > 0 and events[-1]["sources_masked"] == 0
     # hdlampd took every cycle: no CRC, counter or page error
     print("hdlampd:", json.dumps(summary["lamps"]))
     for lamp in ("left", "right"):
@@ -599,7 +624,13 @@ def test_ecu_late_fault_delays_the_reaction(hdlamp, tmp_path):
 
 def test_ecu_fd_database_on_fd_vcan0(hdlamp, tmp_path):
     """The dimming database is data: with hd84_fd.dbc the ECU sends CAN FD frames (two per
-    lamp and cycle) and hdlampd, reading the same database, takes every cycle."""
+    lamp and cycle) and hdlampd, reading the same database, takes every cycle. On a classic
+    vcan0 it refuses to start."""
+    r = subprocess.run([hdlamp, "ecu", "--can", "vcan0", "--dbc", dbc_path("hd84_fd.dbc")],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 1 and r.stderr == (
+        "hdlamp ecu: can: 'vcan0': the dimming database has CAN FD frames, the interface is "
+        "classic CAN only (MTU 16)\n"), r.stderr
     sh("hl-vcan", "fd", "vcan0")
     try:
         d, dlines = start_hdlampd(dbc_path("hd84_fd.dbc"))
@@ -622,7 +653,7 @@ def test_ecu_fd_database_on_fd_vcan0(hdlamp, tmp_path):
 
 def test_ecu_survives_vcan0_deleted_and_readded(hdlamp, tmp_path):
     """An adapter pulled and plugged in again: the ECU keeps its cycle, counts the frames it
-    could not send, reopens both sockets, and hdlampd gets its cycles again."""
+    could not send, reopens its socket, and hdlampd gets its cycles again."""
     d, dlines = start_hdlampd()
     p, lines, start, windows = start_ecu(hdlamp, tmp_path)
     try:
@@ -636,8 +667,9 @@ def test_ecu_survives_vcan0_deleted_and_readded(hdlamp, tmp_path):
         summary = stop_hdlampd(d, dlines)
     ecu = events[-1]
     print("ecu:", json.dumps(ecu), "hdlampd:", json.dumps(summary["lamps"]))
-    assert ecu["tx_errors"] > 0 and ecu["socket"]["tx_reopens"] == 1
-    assert ecu["socket"]["read_errors"] >= 1 and ecu["socket"]["reopens"] == 1
+    # one socket receives and sends: lost once (by a read or a send), opened again once
+    assert ecu["tx_errors"] > 0 and ecu["socket"]["losses"] == 1
+    assert ecu["socket"]["opens"] == 2 and ecu["socket"]["closes"] == 1
     assert ecu["frames_sent"] + ecu["tx_errors"] == 24 * ecu["cycles"]
     assert summary["socket"]["opens"] == 2
     for lamp in ("left", "right"):
