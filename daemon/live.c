@@ -706,6 +706,13 @@ static int setup(struct live *lv)
 		rc = setup_loop(lv);
 	if (rc == 0 && lv->args->render)
 		rc = setup_restbus(lv);
+	if (rc == 0 && !lv->args->render &&
+	    (lv->cfg.loop_report[0] || lv->cfg.loop_exit_at_end || lv->cfg.loop_events[0])) {
+		log_msg("loop.report, loop.exit_at_end and loop.events judge rendered frames: not "
+			"with --no-render");
+		lv->config_error = true;
+		rc = -EINVAL;
+	}
 	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
 		log_msg("scene.scenario '%s': not used with --no-render (no light to judge)%s",
 			lv->cfg.scenario, lv->cfg.pose_listen[0] ? "; pose.listen neither" : "");
@@ -875,7 +882,7 @@ static bool scenario_over(struct live *lv)
 	       hl_clock_monotonic_ns() >= t0 + (int64_t)(lv->sc->duration_s * 1e9) + END_MARGIN_NS;
 }
 
-/* The run's report (loop.report) and the exit code its verdict gives: 0 held, 3 failed. */
+/* The run's end: the loop finished, the report written, the exit code (run_report.h). */
 static int report(struct live *lv, const char *end, int code)
 {
 	const struct hl_run_report_sources src = {
@@ -892,23 +899,8 @@ static int report(struct live *lv, const char *end, int code)
 		.restbus = lv->restbus,
 		.end = end,
 	};
-	bool passed;
-	int rc;
 
-	hl_loop_latency_finish(lv->loop); /* every thread that fed it has stopped */
-	if (!lv->cfg.loop_report[0] && !lv->cfg.loop_exit_at_end)
-		return code;
-	passed = hl_run_report_passed(&src);
-	if (lv->cfg.loop_report[0]) {
-		rc = hl_run_report_write(&src, lv->cfg.loop_report);
-		if (rc < 0) {
-			log_msg("loop.report '%s': %s", lv->cfg.loop_report, strerror(-rc));
-			return 1;
-		}
-	}
-	log_msg("run ended (%s): verdict %s%s%s", end, passed ? "held" : "FAILED",
-		lv->cfg.loop_report[0] ? "; report in " : "", lv->cfg.loop_report);
-	return code == 0 && !passed ? 3 : code;
+	return hl_run_report_end(&src, lv->cfg.loop_report, lv->cfg.loop_exit_at_end, code);
 }
 
 /* The status as one JSON line on stdout (at exit), in a buffer as large as it needs. */

@@ -82,9 +82,10 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 	json_string(f, s->end);
 	fprintf(f,
 		",\"frames\":{\"rendered\":%" PRIu64 ",\"not_published\":%" PRIu64
-		",\"render_ms_max\":%.3f},\"snapshots\":{\"pushed\":%" PRIu64 ",\"superseded\":%" PRIu64
-		",\"dropped\":%" PRIu64 "},\"cycles\":{",
-		pc.frames, pc.not_published, pc.render_ms_max, rc.pushed, rc.superseded, rc.dropped);
+		",\"render_ms_max\":%.3f},\"snapshots\":{\"pushed\":%" PRIu64
+		",\"superseded\":%" PRIu64 ",\"dropped\":%" PRIu64 "},\"cycles\":{",
+		pc.frames, pc.not_published, pc.render_ms_max, rc.pushed, rc.superseded,
+		rc.dropped);
 	for (int l = 0; l < s->n_lamps; l++) {
 		const struct hl_lamp_counters *lc = &st.lamps[l];
 		const uint64_t nr = pc.cycles_not_rendered[l];
@@ -155,4 +156,26 @@ int hl_run_report_write(const struct hl_run_report_sources *s, const char *path)
 	if (rc < 0)
 		unlink(tmp);
 	return rc;
+}
+
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,
+		      int code)
+{
+	bool passed;
+	int rc;
+
+	hl_loop_latency_finish(s->loop);
+	if (!path[0] && !exit_at_end)
+		return code;
+	passed = hl_run_report_passed(s);
+	if (path[0]) {
+		rc = hl_run_report_write(s, path);
+		if (rc < 0) {
+			fprintf(stderr, "hdlampd: loop.report '%s': %s\n", path, strerror(-rc));
+			return 1;
+		}
+	}
+	fprintf(stderr, "hdlampd: run ended (%s): verdict %s%s%s\n", s->end,
+		passed ? "held" : "FAILED", path[0] ? "; report in " : "", path);
+	return code == 0 && !passed ? 3 : code;
 }

@@ -45,4 +45,13 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f);
 /* The report into path (written beside it and renamed). 0 or -errno. */
 int hl_run_report_write(const struct hl_run_report_sources *s, const char *path);
 
+/*
+ * At the run's end (every thread that fed the counters stopped): finishes the loop's judge,
+ * writes the report to path (if not empty) and logs the verdict. Returns the exit code: code
+ * when neither a report nor exit_at_end was asked for, else 3 when the verdict failed (and code
+ * was 0), 1 when the report could not be written.
+ */
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,
+		      int code);
+
 #endif

@@ -63,11 +63,17 @@ def test_held_high_beam_fails_the_glare_verdict_with_exit_3(hdlamp, lamps, tmp_p
         if "hdlamp_loop_glare_seconds" in text or time.monotonic() > until:
             break
         time.sleep(0.2)
+    with urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=10) as r:
+        live = json.loads(r.read().decode())["loop"]
     code, status, err = finish(p)
     lint = subprocess.run(["promtool", "check", "metrics"], input=text, capture_output=True,
                           text=True)
     assert lint.returncode == 0 and not lint.stdout.strip(), lint.stdout + lint.stderr
     assert "hdlamp_loop_latency_seconds_bucket" in text
+    # /status's part: the same judge, mid-run (no camera: no event, the strict rule)
+    assert live["camera"] is False and live["reaction_ms"] == 60 and live["events"] == 0
+    assert [a["id"] for a in live["actors"]] == ["oncoming-car"]
+    assert "last_enter" not in live
     assert code == 3, err
     assert "verdict FAILED" in err
     rep = json.loads(report.read_text())
