@@ -120,3 +120,13 @@ def test_report_needs_a_scenario(hdlamp, lamps, tmp_path):
                        timeout=60)
     assert r.returncode == 2
     assert "loop.report needs scene.scenario" in r.stderr
+
+
+def test_report_refused_without_the_renderer(hdlamp, lamps, tmp_path):
+    log = hold_log(hdlamp, tmp_path, "low", cycles=5)
+    r = subprocess.run([HDLAMPD, "--replay", log, "--dbc", dbc_path("hd84.dbc"), "--no-render",
+                        "--scenario", SCENARIO, "--report", str(tmp_path / "r.json")],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2
+    assert "judge rendered frames: not with --no-render" in r.stderr
+    assert not (tmp_path / "r.json").exists()
