@@ -89,8 +89,12 @@ def run_loop(build, iface, seconds, size, out_dir):
             with open(report) as f:
                 rep = json.load(f)
             verdicts.append(rep["verdict"])
+            enter = [e for e in rep["loop"]["event_list"] if e["event"] == "enter"]
             runs.append({"frames": rep["frames"], "cycles": rep["cycles"],
-                         "verdict": rep["verdict"]})
+                         "verdict": rep["verdict"], "exit": r.returncode,
+                         "frame_latency_ms": [e["latency_ms"].get("frame") for e in enter],
+                         "frames_over_late": sum(a["frames_over_late"]
+                                                 for a in rep["loop"]["actors"])})
             events += [e for e in rep["loop"]["event_list"]
                        if e["event"] == "enter" and e["masked"]]
     finally:
@@ -110,6 +114,8 @@ def run_loop(build, iface, seconds, size, out_dir):
                                    "p99": pct([x / ECU_CYCLE_MS for x in v], 0.99),
                                    "max": pct([x / ECU_CYCLE_MS for x in v], 1.0)}
                                for k, v in lat.items()},
+            "per_run": [{k: r[k] for k in ("exit", "frame_latency_ms", "frames_over_late")}
+                        for r in runs],
             "frames_rendered_per_run": statistics.median(r["frames"]["rendered"] for r in runs),
             "cycles_not_rendered_total": sum(c["not_rendered"] for r in runs
                                              for c in r["cycles"].values())}
@@ -118,6 +124,14 @@ def run_loop(build, iface, seconds, size, out_dir):
 def section(build, out_dir, seconds, size=None, iface=None):
     """The loop section: on the host's CAN interface (frames of size, default 320x180), or in
     the VM (default 64x36: TCG renders ~50x slower)."""
+    load_start = os.getloadavg()
+    s = measure_section(build, out_dir, seconds, size, iface)
+    s["loadavg_host"] = {"start": [round(x, 2) for x in load_start],
+                         "end": [round(x, 2) for x in os.getloadavg()]}
+    return s
+
+
+def measure_section(build, out_dir, seconds, size, iface):
     ifaces = [iface] if iface else can_interfaces()
     if ifaces:
         s = run_loop(build, ifaces[0], seconds, size or "320x180", out_dir)
