@@ -62,8 +62,8 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 	static const char *const reasons[] = {
 		"no frame rendered", "frames not judged (the hand-over ring was full)",
 		"a verdict set failed on a frame",
-		"a road user's glare over its limit after the reaction "
-		"time (or, without a restbus, at all)"
+		("a road user's glare over its limit after the reaction time (or, without a "
+		 "restbus, at all)")
 	};
 	struct hl_pipeline_counts pc;
 	struct hl_input_status st;
