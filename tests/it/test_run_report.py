@@ -130,3 +130,46 @@ def test_report_refused_without_the_renderer(hdlamp, lamps, tmp_path):
     assert r.returncode == 2
     assert "judge rendered frames: not with --no-render" in r.stderr
     assert not (tmp_path / "r.json").exists()
+
+
+def test_live_page_loop_panel_in_chromium(hdlamp, lamps, tmp_path):
+    """The live page's Loop panel, in chromium: no entry yet (no camera), the car's line with
+    its unseen frames, marked failing (no camera: the strict rule)."""
+    import shutil
+
+    from test_http_browser import BROWSER_DIR, npm_install
+    for tool in ("/usr/bin/chromium", shutil.which("node"), shutil.which("npm")):
+        if not tool or not os.access(tool, os.X_OK):
+            pytest.fail(f"missing {tool}: tools/setup installs chromium, nodejs and npm")
+    modules = npm_install()
+    log = hold_log(hdlamp, tmp_path, "high", cycles=CYCLES)
+    p = subprocess.Popen(
+        [HDLAMPD, "--replay", log, "--loop", "--dbc", dbc_path("hd84.dbc"), "--scenario",
+         SCENARIO, "--report", str(tmp_path / "r.json"),
+         "--set", f"lamps.left={lamps}/hd84_left.lid.exr",
+         "--set", f"lamps.right={lamps}/hd84_right.lid.exr",
+         "--set", "render.size=160x90", "--set", "stream.tcp=",
+         "--set", "http.listen=127.0.0.1:0", "--set", f"verdict.regulations={REGS}"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        port = None
+        while port is None:
+            line = p.stderr.readline()
+            assert line, "hdlampd exited early"
+            if "live view on http://" in line:
+                port = int(line.rsplit("(port ", 1)[1].split(")")[0])
+        r = subprocess.run(["node", os.path.join(BROWSER_DIR, "loop_panel.cjs"),
+                            f"http://127.0.0.1:{port}/", str(tmp_path / "profile")],
+                           env=dict(os.environ, NODE_PATH=modules), capture_output=True,
+                           text=True, timeout=120)
+    finally:
+        p.send_signal(15)
+        p.communicate(timeout=60)
+    assert r.returncode == 0, r.stderr
+    seen = json.loads(r.stdout.strip().splitlines()[-1])
+    print(json.dumps(seen))
+    assert seen["pageErrors"] == []
+    assert seen["head"] == "no road user entered the camera's view yet"
+    (car,) = seen["actors"]
+    assert car["id"] == "oncoming-car" and car["cls"] == "bad"
+    assert car["text"].startswith("oncoming-car: glared 0.00 s in view (0.00 s after 60 ms), ")
