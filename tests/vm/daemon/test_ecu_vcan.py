@@ -100,6 +100,20 @@ class Inputs:
         data[0] = crc8_j1850(bytes([did & 0xFF, did >> 8]) + bytes(data[1:]))
         return bytes(data)
 
+    def decode(self, mid, data):
+        """The fields of a frame of message mid, physical values, by the DBC's layout."""
+        word = int.from_bytes(data, "little")
+        out = {}
+        for field, sig in self.fields[mid].items():
+            start, length, signed, factor, offset = self.msgs[mid]["signals"][sig]
+            raw = (word >> start) & ((1 << length) - 1)
+            if signed and raw >> (length - 1):
+                raw -= 1 << length
+            out[field] = round(raw * factor + offset, 6)
+        for k in ("crc", "alive", "object_index"):
+            out.pop(k, None)
+        return out
+
     def vehicle_frame(self, st, alive):
         return self.encode(self.vehicle, {
             "speed": st["speed_kmh"], "yaw_rate": st["yaw_dps"], "steering": 0.0,
@@ -681,3 +695,80 @@ def test_ecu_survives_vcan0_deleted_and_readded(hdlamp, tmp_path):
         # one hdlampd took and be counted as repeated, and hdlampd's socket may come back in
         # the middle of a cycle: what a real receiver would see too
         assert s["crc_errors"] == 0 and s["incomplete"] <= 1
+
+
+def test_ecu_closed_loop_with_hdlampd_restbus(hdlamp, tmp_path):
+    """The loop on vcan0: hdlampd plays a scenario's inputs through its restbus (light switch
+    high, ADB on) and renders the ECU's dimming frames; the ECU takes every input, masks the
+    oncoming car the restbus reports exactly where the car's box (decoded here from the
+    restbus's frames) meets the windows, and hdlampd takes every cycle."""
+    high = preset(hdlamp, tmp_path, "high")
+    sh(hdlamp, "model", "--out", str(tmp_path))
+    scn = tmp_path / "loop.json"
+    scn.write_text(json.dumps({
+        "version": 1, "title": "closed loop on vcan", "duration_s": 600,
+        "road": {"segments": [{"kind": "straight", "length_m": 1000}],
+                 "lanes": {"count": 2, "width_m": 3.5}},
+        "ego": {"start_s_m": 0, "lane": 1, "speed_mps": 0},
+        "actors": [{"id": "oncoming", "kind": "car", "role": "oncoming",
+                    "path": {"lane": 2, "start_s_m": 80, "speed_mps": 0}}],
+    }))
+    inputs = Inputs()
+    layout = dimming_layout()
+    rec = Recorder(str(tmp_path / "frames.jsonl"), [inputs.info, inputs.box, *layout])
+    d = subprocess.Popen([HDLAMPD, "--can", "vcan0", "--dbc", dbc_path("hd84.dbc"),
+                          "--scenario", str(scn), "--restbus", "vcan0",
+                          "--set", "restbus.light_switch=high",
+                          "--set", f"lamps.left={tmp_path}/hd84_left.lid.exr",
+                          "--set", f"lamps.right={tmp_path}/hd84_right.lid.exr",
+                          "--set", "render.size=32x18", "--set", "render.combine=cpu",
+                          "--set", "render.headlight=cpu", "--set", "stream.tcp=",
+                          "--set", "http.listen="],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p, log = None, []
+    try:
+        while True:
+            line = d.stderr.readline()
+            assert line, "hdlampd exited early"
+            if line.startswith("hdlampd: renderer: "):  # the restbus starts right after
+                break
+        p, lines, start, windows = start_ecu(hdlamp, tmp_path)
+        log += wait_mode(lines, "glarefree", timeout=60)
+        t_on = time.time()
+        time.sleep(2.0)
+        t_off = time.time()
+    finally:
+        if p is not None:
+            log += stop_ecu(p, lines)
+        d.send_signal(signal.SIGTERM)
+        out, err = d.communicate(timeout=60)
+        frames = rec.stop()
+    assert d.returncode == 0, err
+    ecu = log[-1]
+    status = json.loads(out.strip().splitlines()[-1])
+    print("ecu:", json.dumps(ecu))
+    print("hdlampd lamps:", json.dumps(status["lamps"]))
+    ins = ecu["inputs"]
+    assert ins["crc_errors"] == 0 and ins["bad_values"] == 0 and ins["unknown_id"] == 0
+    assert ins["counter_lost"] == 0 and ins["duplicates"] == 0
+    assert ins["vehicle_states"] > 50 and ins["cycles_complete"] > 25
+    assert ecu["object_cycles"]["relevant"] > 0 and ecu["sources_masked"] > 0
+    # the car as the restbus reported it (standing: the same every cycle)
+    infos = [inputs.decode(inputs.info, bytes.fromhex(h)) for t, mid, h in frames
+             if mid == inputs.info and t_on < t < t_off]
+    boxes = [inputs.decode(inputs.box, bytes.fromhex(h)) for t, mid, h in frames
+             if mid == inputs.box and t_on < t < t_off]
+    assert infos and boxes
+    assert all(i["object_count"] == 1 and i["class"] == 1 for i in infos)
+    car = dict(infos[-1], **boxes[-1])
+    assert all(dict(i, **b) == car for i, b in zip(infos, boxes))
+    print("the car from the restbus:", car)
+    cycles = dimming_cycles(frames, layout)
+    want = {}
+    for lamp in ("left", "right"):
+        off = masked(windows, lamp, [car])
+        want[lamp] = [0 if k in off else high[lamp][k] for k in range(N_SOURCES)]
+        print(f"{lamp}: the car masks sources {[k + 1 for k in sorted(off) if high[lamp][k]]}")
+    check_phase(cycles, t_on + 0.3, t_off, want, "closed loop")
+    for lamp in status["lamps"]:
+        assert lamp["cycles"] > 50 and lamp["crc_errors"] == 0 and lamp["lost_cycles"] == 0
