@@ -270,9 +270,10 @@ static int arm(int tfd, int64_t t_ns)
 	return timerfd_settime(tfd, TFD_TIMER_ABSTIME, &its, NULL) < 0 ? -errno : 0;
 }
 
-static int run_loop(struct ecu_run *r)
+/* Cycles at first, first + 20 ms, ... (a deadline woken past is skipped, never shifted). */
+static int run_loop(struct ecu_run *r, int64_t first)
 {
-	int64_t next = mono_ns() + PERIOD_NS;
+	int64_t next = first;
 
 	for (;;) {
 		struct pollfd p[3] = {
@@ -409,15 +410,19 @@ int hl_ecu_bus_run(const struct hl_ecu_bus_opts *o, const struct hl_ecu_config *
 		.sfd = -1,
 	};
 	int rc = setup_io(&r);
+	int64_t now, first;
 
 	if (rc < 0)
 		goto out;
-	printf("{\"event\":\"start\",\"t_ns\":%" PRId64 ",\"iface\":\"%s\",\"sources\":[%d,%d],"
+	now = mono_ns();
+	first = now + PERIOD_NS;
+	printf("{\"event\":\"start\",\"t_ns\":%" PRId64 ",\"first_deadline_ns\":%" PRId64
+	       ",\"iface\":\"%s\",\"sources\":[%d,%d],"
 	       "\"vehicle_timeout_ms\":%.3f,\"objects_timeout_ms\":%.3f,\"late_ms\":%d}\n",
-	       mono_ns(), o->iface, hl_assembler_n_sources(a, 0), hl_assembler_n_sources(a, 1),
+	       now, first, o->iface, hl_assembler_n_sources(a, 0), hl_assembler_n_sources(a, 1),
 	       cfg->vehicle_timeout_ns / 1e6, cfg->objects_timeout_ns / 1e6, o->late_ms);
 	fflush(stdout);
-	rc = run_loop(&r);
+	rc = run_loop(&r, first);
 	if (rc < 0) {
 		fprintf(stderr, "hdlamp ecu: %s\n", strerror(-rc));
 	} else {

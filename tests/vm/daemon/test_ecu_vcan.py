@@ -295,6 +295,9 @@ def start_ecu(hdlamp, tmp_path, *args):
     lines = Lines(p)
     start = lines.next(timeout=240)  # the HD84 model is built first: slow under TCG
     assert start["event"] == "start", start
+    # its deadlines, first_deadline_ns + k 20 ms on CLOCK_MONOTONIC, on the frames' clock
+    # (the kernel's CLOCK_REALTIME receive timestamps): the same machine, one offset
+    start["grid_rt"] = start["first_deadline_ns"] / 1e9 + (time.time() - time.monotonic())
     return p, lines, start, json.load(open(windows))
 
 
@@ -326,13 +329,10 @@ def wait_mode(lines, mode, timeout=30):
     raise AssertionError(f"no mode {mode}: {seen}")
 
 
-def lateness_of(cs, cycle):
-    """How long after its deadline a cycle's first frame was sent. The ECU's deadlines lie on
-    a 20 ms grid; each cycle's first frame is its deadline plus its wake-up lateness: the grid's
-    phase is the one that makes the run's lateness least."""
-    offs = [c[0] % PERIOD_S for c in cs]
-    base = min(offs, key=lambda b: sum((o - b) % PERIOD_S for o in offs))
-    return (cycle[0] - base) % PERIOD_S
+def lateness_of(start, cycle):
+    """How long after its deadline a cycle's first frame was sent: the ECU's deadlines are
+    the 20 ms grid from its first one (a deadline woken past is skipped, never shifted)."""
+    return (cycle[0] - start["grid_rt"]) % PERIOD_S
 
 
 def check_phase(cycles, t_from, t_to, want, what, at_least=10):
@@ -401,6 +401,10 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     cycles = dimming_cycles(frames, layout)
     counters_step(cycles)
     settle = 0.3  # an input cycle, a dimming cycle, and this VM's scheduling
+    # The ECU decides at each 20 ms deadline, woken up to late_max after it (its own count):
+    # a reaction is due at most one period plus that after its cause. (TCG on a loaded host
+    # can stall the guest for tens of ms; the bound takes the ECU's measured wake-ups.)
+    late_max = summary["late_max_ms"] / 1e3
 
     # 1. before any input: low beam; with the switch on high: high beam
     t_first_input = min(t for t, mid, _ in frames if mid == inputs.vehicle)
@@ -423,11 +427,10 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     for lamp in ("left", "right"):
         cs = cycles[lamp]
         first = next(c for c in cs if c[3] == want[lamp])
-        deadline = first[0] - lateness_of(cs, first)
         print(f"{lamp}: the car's camera cycle to its first masked cycle "
-              f"{(first[0] - t_obj) * 1e3:.1f} ms (that cycle's deadline "
-              f"{(deadline - t_obj) * 1e3:.1f} ms after it)")
-        assert first[0] >= t_obj and deadline <= t_obj + PERIOD_S + 0.001
+              f"{(first[0] - t_obj) * 1e3:.1f} ms (woken {lateness_of(start, first) * 1e3:.1f} "
+              f"ms after a deadline; the ECU's latest wake-up {late_max * 1e3:.1f} ms)")
+        assert t_obj <= first[0] <= t_obj + PERIOD_S + late_max + 0.002
 
     # 3. inputs stop: low beam within the timeout +- one cycle, by the bus's timestamps
     t_veh = max(t for t, mid, _ in frames if mid == inputs.vehicle)
@@ -438,14 +441,14 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
         first_low = next(i for i, c in enumerate(cs) if c[0] > phases["high"] and c[3] == low[lamp])
         before, after = cs[first_low - 1], cs[first_low]
         assert before[3] == want[lamp]  # glare-free up to the fail-safe
-        lateness = lateness_of(cs, after)
+        lateness = lateness_of(start, after)
         deadline = after[0] - lateness
         print(f"{lamp}: last input {(t_fs - t_veh) * 1e3:.1f} ms before the timeout; first "
               f"low cycle {(after[0] - t_fs) * 1e3:.1f} ms after it (its deadline "
               f"{(deadline - t_fs) * 1e3:.1f} ms, woken {lateness * 1e3:.1f} ms late); the "
               f"cycle before {(before[0] - t_fs) * 1e3:.1f} ms")
         assert after[0] >= t_fs, "low beam before the timeout"
-        assert deadline <= t_fs + PERIOD_S + 0.001, "low beam more than one cycle late"
+        assert after[0] <= t_fs + PERIOD_S + late_max + 0.002, "low beam more than one cycle late"
         # and low beam from then on
         assert all(c[3] == low[lamp] for c in cs[first_low:])
 
@@ -568,8 +571,10 @@ def test_ecu_e2e_failed_inputs_give_low_beam(hdlamp, tmp_path):
         assert before and before[-1][3] == high[lamp]
         assert after and all(c[3] == low[lamp] for c in after), lamp
         first_low = next(c for c in cs if c[3] == low[lamp] and c[0] > t_bad)
-        assert first_low[0] >= third
-        assert first_low[0] - lateness_of(cs, first_low) <= third + PERIOD_S + 0.001
+        late_max = events[-1]["late_max_ms"] / 1e3
+        print(f"{lamp}: the third bad state to the first low cycle "
+              f"{(first_low[0] - third) * 1e3:.1f} ms (latest wake-up {late_max * 1e3:.1f} ms)")
+        assert third <= first_low[0] <= third + PERIOD_S + late_max + 0.002
     check_phase(cycles, t_good + 0.3, time.time(), high, "good states again", at_least=10)
 
 
@@ -606,7 +611,7 @@ def test_ecu_late_fault_delays_the_reaction(hdlamp, tmp_path):
     high = preset(hdlamp, tmp_path, "high")
     inputs = Inputs()
     layout = dimming_layout()
-    rec = Recorder(str(tmp_path / "frames.jsonl"), [inputs.box, *layout])
+    rec = Recorder(str(tmp_path / "frames.jsonl"), [inputs.info, inputs.box, *layout])
     p, lines, start, windows = start_ecu(hdlamp, tmp_path, "--fault", "late=100")
     assert start["late_ms"] == 100
     sender = Sender(inputs)
@@ -619,10 +624,14 @@ def test_ecu_late_fault_delays_the_reaction(hdlamp, tmp_path):
         time.sleep(1.5)
     finally:
         sender.stop()
-        stop_ecu(p, lines)
+        events = stop_ecu(p, lines)
         frames = rec.stop()
     cycles = dimming_cycles(frames, layout)
-    t_obj = min(t for t, mid, _ in frames if mid == inputs.box)
+    late_max = events[-1]["late_max_ms"] / 1e3
+    # the car's first camera cycle: its info or box frame, whichever the recorder has first
+    t_obj = min(t for t, mid, h in frames
+                if mid == inputs.box or (mid == inputs.info and
+                                         inputs.decode(mid, bytes.fromhex(h))["object_count"]))
     for lamp in ("left", "right"):
         off = masked(windows, lamp, [ONCOMING])
         want = [0 if k in off else high[lamp][k] for k in range(N_SOURCES)]
@@ -631,8 +640,7 @@ def test_ecu_late_fault_delays_the_reaction(hdlamp, tmp_path):
         delay = first[0] - t_obj
         print(f"{lamp}: the car's camera cycle to its first masked cycle {delay * 1e3:.1f} ms")
         # computed at the next deadline (within 20 ms), sent 100 ms later
-        assert 0.100 <= delay
-        assert first[0] - lateness_of(cs, first) <= t_obj + PERIOD_S + 0.100 + 0.001
+        assert 0.100 <= delay <= 0.100 + PERIOD_S + late_max + 0.002
         assert all(c[3] == high[lamp] for c in cs if c[1] < t_obj + 0.100)
 
 
