@@ -163,6 +163,20 @@ static const struct key keys[] = {
 	  "off|auto|low|high" },
 	{ "restbus", "adb_enable", BOOL, F(restbus_adb_enable), 0, 0,
 	  "the driver allows the glare-free high beam (ADB)", NULL },
+	{ "loop", "reaction_ms", DOUBLE, F(loop_reaction_ms), 1, 60000,
+	  "glare over a road user's limit is allowed this long after it enters the camera's view "
+	  "(default 60: three ECU cycles, docs/loop.md)",
+	  NULL },
+	{ "loop", "events", PATH, F(loop_events), 0, 0,
+	  "JSON lines per loop event (enter, leave): a file, - for stdout, empty = none", NULL },
+	{ "loop", "exit_at_end", BOOL, F(loop_exit_at_end), 0, 0,
+	  "stop at the scenario's end (live: its duration on the daemon's clock; replay: the log's "
+	  "end)",
+	  NULL },
+	{ "loop", "report", PATH, F(loop_report), 0, 0,
+	  "write the run's JSON report (frames, cycles, verdicts, glare, loop latencies) here at "
+	  "exit; empty = none",
+	  NULL },
 	{ "sched", "realtime_priority", INT, F(rt_priority), 0, 99,
 	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers), the frame "
 	  "stream thread one below; 0 = normal scheduling",
@@ -212,6 +226,7 @@ void hl_config_defaults(struct hl_config *c)
 	c->restbus_range_m = 250.0;
 	strcpy(c->restbus_light_switch, "auto");
 	c->restbus_adb_enable = true;
+	c->loop_reaction_ms = 60.0; /* 3 ECU cycles of 20 ms: docs/loop.md */
 }
 
 static int bad(struct hl_config_error *err, const char *origin, int line, const struct key *k,
@@ -495,6 +510,10 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "pose.listen needs scene.scenario: the poses move its road users";
 	else if (cfg->restbus_interface[0] && !cfg->scenario[0])
 		why = "restbus.interface needs scene.scenario: the restbus sends its state";
+	else if (cfg->loop_exit_at_end && !cfg->scenario[0])
+		why = "loop.exit_at_end needs scene.scenario: the run ends with it";
+	else if (cfg->loop_report[0] && !cfg->scenario[0])
+		why = "loop.report needs scene.scenario: the report judges its run";
 	if (why && err)
 		snprintf(err->msg, sizeof(err->msg), "%s", why);
 	return why ? -EINVAL : 0;

@@ -102,6 +102,11 @@ struct hl_config {
 	double restbus_range_m;
 	char restbus_light_switch[HL_CONFIG_NAME]; /* off | auto | low | high */
 	bool restbus_adb_enable;
+	/* [loop] (daemon/loop_latency.h, docs/loop.md) */
+	double loop_reaction_ms; /* glare allowed this long after entering the camera's view */
+	char loop_events[HL_CONFIG_PATH]; /* JSON lines per event: a file, "-" stdout, "" none */
+	bool loop_exit_at_end; /* stop at the scenario's end */
+	char loop_report[HL_CONFIG_PATH]; /* the run's JSON report at exit, or "" */
 	/* [sched] */
 	int rt_priority; /* SCHED_FIFO of the CAN and render threads (stream: one below); 0: off */
 	/* where each key of config.c's table was last set, by its index there */

@@ -54,6 +54,10 @@ static void usage(FILE *f)
 		"                     per datagram (needs --scenario)\n"
 		"  --restbus IFACE    = restbus.interface: send the ECU's inputs (vehicle state,\n"
 		"                     camera objects) from the scenario on IFACE (needs --scenario)\n"
+		"  --exit-at-end      = loop.exit_at_end: stop at the scenario's end (needs --scenario)\n"
+		"  --report FILE      = loop.report: the run's JSON report at exit; the exit code is\n"
+		"                     then 0 only when every verdict held, 3 when one failed\n"
+		"  --loop-events FILE = loop.events: JSON lines per loop event ('-': stdout)\n"
 		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
 		"  --no-render        decode only: print to stdout instead of rendering\n"
 		"  --print-cycles     with --no-render: one JSON line per complete lamp cycle\n"
@@ -100,6 +104,9 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "scenario", required_argument, NULL, 'A' },
 		{ "pose", required_argument, NULL, 'O' },
 		{ "restbus", required_argument, NULL, 'B' },
+		{ "exit-at-end", no_argument, NULL, 'E' },
+		{ "report", required_argument, NULL, 'R' },
+		{ "loop-events", required_argument, NULL, 'V' },
 		{ "no-render", no_argument, NULL, 'n' },
 		{ "print-cycles", no_argument, NULL, 'p' },
 		{ "print-config", no_argument, NULL, 'P' },
@@ -156,6 +163,15 @@ static int parse_options(int argc, char **argv, struct options *o)
 			break;
 		case 'B':
 			rc = add_override(o, "restbus.interface", optarg, "--restbus", optarg);
+			break;
+		case 'E':
+			rc = add_override(o, "loop.exit_at_end", "true", "--exit-at-end", NULL);
+			break;
+		case 'R':
+			rc = add_override(o, "loop.report", optarg, "--report", optarg);
+			break;
+		case 'V':
+			rc = add_override(o, "loop.events", optarg, "--loop-events", optarg);
 			break;
 		case 's':
 			v = strtol(optarg, &end, 10);

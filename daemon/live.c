@@ -28,10 +28,12 @@
 #include "daemon/glare_live.h"
 #include "daemon/gpio.h"
 #include "daemon/http.h"
+#include "daemon/loop_latency.h"
 #include "daemon/notify.h"
 #include "daemon/pipeline.h"
 #include "daemon/pose_input.h"
 #include "daemon/restbus.h"
+#include "daemon/run_report.h"
 #include "daemon/status.h"
 #include "daemon/stream.h"
 #include "daemon/verdicts.h"
@@ -49,6 +51,12 @@ void hl_live_log(const char *fmt, ...)
 	vfprintf(stderr, fmt, ap);
 	fputc('\n', stderr);
 	va_end(ap);
+}
+
+/* The pool's subscriber: every published frame to the loop's judge (never blocks). */
+static void loop_frame(void *ud, const struct hl_frame *f)
+{
+	hl_loop_latency_frame(ud, f);
 }
 
 /* The pool's subscriber: the strobe toggles with every published frame. */
@@ -339,6 +347,11 @@ static int setup_renderer(struct live *lv, int n_src)
 		if (rc < 0)
 			return rc;
 	}
+	if (lv->loop) {
+		rc = hl_frame_pool_subscribe(lv->pool, loop_frame, lv->loop);
+		if (rc < 0)
+			return rc;
+	}
 	if (hl_notify_watchdog_interval_us(&lv->watchdog_us) < 0)
 		lv->watchdog_us = 0;
 	rc = debug_stall(lv);
@@ -369,6 +382,7 @@ static int setup_outputs(struct live *lv)
 		.glare = lv->glare,
 		.pose = lv->pose,
 		.restbus = lv->restbus,
+		.loop = lv->loop,
 	};
 	struct hl_capture_queue_config cq = {
 		.dir = lv->cfg.capture_dir,
@@ -455,7 +469,16 @@ static int setup(struct live *lv)
 	if (rc == 0 && lv->args->render)
 		rc = hl_live_setup_scene(lv);
 	if (rc == 0 && lv->args->render)
+		rc = hl_live_setup_loop(lv);
+	if (rc == 0 && lv->args->render)
 		rc = hl_live_setup_restbus(lv);
+	if (rc == 0 && !lv->args->render &&
+	    (lv->cfg.loop_report[0] || lv->cfg.loop_exit_at_end || lv->cfg.loop_events[0])) {
+		hl_live_log("loop.report, loop.exit_at_end and loop.events judge rendered frames: "
+			    "not with --no-render");
+		lv->config_error = true;
+		rc = -EINVAL;
+	}
 	if (rc == 0 && !lv->args->render && lv->cfg.scenario[0])
 		hl_live_log("scene.scenario '%s': not used with --no-render (no light to judge)%s",
 			    lv->cfg.scenario,
@@ -531,6 +554,11 @@ static void teardown(struct live *lv)
 	hl_http_free(lv->http); /* after the status that reads its counters */
 	hl_verdicts_free(lv->verdicts); /* after the pipeline and the status that read it */
 	hl_restbus_free(lv->restbus); /* after the status; before the pose and scenario it reads */
+	if (lv->loop && lv->pool)
+		hl_frame_pool_unsubscribe(lv->pool, loop_frame, lv->loop);
+	hl_loop_latency_free(lv->loop); /* after the restbus and the status that use it */
+	if (lv->loop_events)
+		fclose(lv->loop_events);
 	hl_pose_input_free(lv->pose); /* after the pipeline and the status that read them */
 	hl_glare_live_free(lv->glare);
 	hl_regulation_free(lv->glare_reg);
@@ -611,6 +639,38 @@ static bool watch(struct live *lv, struct hl_input_status *prev, bool *ready, in
 	return prev->done;
 }
 
+/* loop.exit_at_end on a live bus: the scenario's duration has passed on its clock (with a
+ * margin of END_MARGIN_NS, so the frames of its last instant are rendered and judged). */
+#define END_MARGIN_NS 100000000LL
+static bool scenario_over(struct live *lv)
+{
+	const int64_t t0 = hl_pipeline_scene_t0_ns(lv->pipe);
+
+	return lv->cfg.loop_exit_at_end && lv->sc && !lv->cfg.replay[0] && !lv->pose && t0 > 0 &&
+	       hl_clock_monotonic_ns() >= t0 + (int64_t)(lv->sc->duration_s * 1e9) + END_MARGIN_NS;
+}
+
+/* The run's end: the loop finished, the report written, the exit code (run_report.h). */
+static int report(struct live *lv, const char *end, int code)
+{
+	const struct hl_run_report_sources src = {
+		.scenario_path = lv->cfg.scenario,
+		.sc = lv->sc,
+		.glare_set = lv->cfg.glare_set,
+		.n_lamps = lv->n_lamps,
+		.lamp_names = lv->lamp_names,
+		.in = lv->in,
+		.ring = lv->ring,
+		.pipe = lv->pipe,
+		.verdicts = lv->verdicts,
+		.loop = lv->loop,
+		.restbus = lv->restbus,
+		.end = end,
+	};
+
+	return hl_run_report_end(&src, lv->cfg.loop_report, lv->cfg.loop_exit_at_end, code);
+}
+
 /* The status as one JSON line on stdout (at exit), in a buffer as large as it needs. */
 static void print_status(struct hl_status *st)
 {
@@ -638,6 +698,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	struct hl_input_status prev = { .link_up = false };
 	int64_t status_ns = 0;
 	bool ready = false, done = false;
+	const char *end = "signal";
 	sigset_t mask;
 	char msg[256]; /* a capture's answer: the queue logs it */
 	int sfd, rc, code = 1;
@@ -667,6 +728,14 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		struct signalfd_siginfo si;
 
 		done = lv.pipe ? watch(&lv, &prev, &ready, &status_ns) : print_pending(&lv);
+		if (done)
+			end = "replay_end";
+		if (lv.loop && !lv.restbus) /* no restbus thread: this one judges the frames */
+			hl_loop_latency_drain(lv.loop, INFINITY);
+		if (!done && lv.pipe && scenario_over(&lv)) {
+			end = "scenario_end";
+			done = true;
+		}
 		if (done) {
 			/* a finite replay ended: let the last frame out, then stop */
 			if (lv.pipe)
@@ -674,7 +743,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			code = 0;
 			break;
 		}
-		if (poll(pfd, 3, lv.pipe ? 200 : 100) <= 0)
+		if (poll(pfd, 3, lv.pipe ? (lv.cfg.loop_exit_at_end ? 20 : 200) : 100) <= 0)
 			continue;
 		if (pfd[2].revents & POLLIN)
 			hl_ring_wait(lv.ring, 0); /* reset: the next turn pops what came */
@@ -713,6 +782,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		hl_pose_input_stop(lv.pose);
 		if (lv.stream)
 			hl_stream_stop(lv.stream);
+		if (lv.loop)
+			code = report(&lv, end, code);
 		print_status(lv.status);
 	} else if (rc == 0) {
 		hl_can_input_stop(lv.in); /* joined: everything it pushed is in the ring */

@@ -2,13 +2,14 @@
 /*
  * The daemon's wiring (daemon/live.c) shared with the setup of its parts in other files
  * (daemon/live_setup.c: the verdicts, the scenario with its glare and pose input, the
- * restbus). Only hl_live_run's thread touches a struct live.
+ * loop's latency, the restbus). Only hl_live_run's thread touches a struct live.
  */
 #ifndef HL_DAEMON_LIVE_INTERNAL_H
 #define HL_DAEMON_LIVE_INTERNAL_H
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "can/assembler.h"
 #include "daemon/can_input.h"
@@ -19,6 +20,7 @@
 #include "daemon/glare_live.h"
 #include "daemon/gpio.h"
 #include "daemon/http.h"
+#include "daemon/loop_latency.h"
 #include "daemon/live.h"
 #include "daemon/pipeline.h"
 #include "daemon/pose_input.h"
@@ -58,6 +60,9 @@ struct live {
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose;
 	struct hl_restbus *restbus; /* restbus.interface: the ECU's inputs from the scenario */
+	/* the loop's latency and glare verdict (a scenario with a restbus or a report) */
+	struct hl_loop_latency *loop;
+	FILE *loop_events; /* loop.events when a file */
 	bool config_error; /* setup failed on the configuration: exit 2 */
 	struct hl_http *http;
 	struct hl_capture_queue *captures; /* the one capture writer */
@@ -73,6 +78,8 @@ void hl_live_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 int hl_live_setup_verdicts(struct live *lv);
 /* The scenario (scene.*), its glare, the pose input (pose.listen). As above. */
 int hl_live_setup_scene(struct live *lv);
+/* The loop's latency and glare verdict (loop.*). As above. */
+int hl_live_setup_loop(struct live *lv);
 /* The restbus (restbus.*). As above. */
 int hl_live_setup_restbus(struct live *lv);
 

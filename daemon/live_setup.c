@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The setup of the daemon's verdicts, scenario and restbus (daemon/live_internal.h). */
+/* The setup of the daemon's verdicts, scenario, loop latency and restbus (daemon/live_internal.h). */
 #include "daemon/live_internal.h"
 
 #include <errno.h>
@@ -7,6 +7,8 @@
 #include <string.h>
 
 #include "lamp/share_dir.h"
+
+#define ECU_CYCLE_MS 20.0 /* the dimming period of docs/design.md §1 */
 
 int hl_live_setup_verdicts(struct live *lv)
 {
@@ -118,6 +120,47 @@ int hl_live_setup_scene(struct live *lv)
 }
 
 /*
+ * The loop's judge (daemon/loop_latency.h): with a scenario and a restbus, a report, an end or
+ * event lines asked for. loop.events opens here (a bad path is a configuration error).
+ */
+int hl_live_setup_loop(struct live *lv)
+{
+	struct hl_loop_latency_config lc = {
+		.sc = lv->sc,
+		.ecu_cycle_ms = ECU_CYCLE_MS,
+		.reaction_ms = lv->cfg.loop_reaction_ms,
+		.camera = lv->cfg.restbus_interface[0] != '\0',
+	};
+	int rc;
+
+	if (!lv->sc || !(lv->cfg.restbus_interface[0] || lv->cfg.loop_report[0] ||
+			 lv->cfg.loop_exit_at_end || lv->cfg.loop_events[0]))
+		return 0;
+	if (strcmp(lv->cfg.loop_events, "-") == 0) {
+		lc.events = stdout;
+	} else if (lv->cfg.loop_events[0]) {
+		lv->loop_events = fopen(lv->cfg.loop_events, "we");
+		if (!lv->loop_events) {
+			hl_live_log("loop.events '%s': %s; expected a file it can write",
+				    lv->cfg.loop_events, strerror(errno));
+			lv->config_error = true;
+			return -errno;
+		}
+		lc.events = lv->loop_events;
+	}
+	rc = hl_loop_latency_new(&lc, &lv->loop);
+	if (rc < 0) {
+		hl_live_log("loop: %s", strerror(-rc));
+		return rc;
+	}
+	hl_live_log(
+		"loop: glare over a road user's limit allowed %g ms after it enters the camera's "
+		"view%s",
+		lc.reaction_ms, lc.camera ? "" : " (no restbus: none allowed)");
+	return 0;
+}
+
+/*
  * The restbus (restbus.interface): the input database (restbus.dbc, or the shipped
  * hd84_inputs.dbc), the camera. A bad database or camera is a configuration error (exit 2).
  */
@@ -144,6 +187,7 @@ int hl_live_setup_restbus(struct live *lv)
 		.rt_priority = lv->cfg.rt_priority > 1 ? lv->cfg.rt_priority - 1 :
 							 lv->cfg.rt_priority,
 		.log = stderr,
+		.loop = lv->loop,
 	};
 	int rc;
 

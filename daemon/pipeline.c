@@ -52,7 +52,7 @@ struct hl_pipeline {
 	const struct hl_scenario *sc;
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose; /* NULL: no pose input */
-	int64_t t_start_ns; /* CLOCK_MONOTONIC at start: a live bus's scenario clock */
+	int64_t t_start_ns; /* CLOCK_MONOTONIC when the renderer was ready: a live bus's scenario clock */
 
 	/* live settings, changed by reload under the lock */
 	pthread_mutex_t lock;
@@ -420,7 +420,7 @@ static double check(struct hl_pipeline *p, struct hl_frame *f, const struct hl_v
  * newest pose message when the pose input has had one; else the scenario clock: with a replay
  * the log's time of the newest lamp cycle since the start of its pass (so a recorded drive and
  * its scenario stay in step, and each --loop pass starts the scenario again), on a live bus
- * CLOCK_MONOTONIC since the pipeline started. The clock holds at 0 before the start and at
+ * CLOCK_MONOTONIC since the renderer was ready. The clock holds at 0 before the start and at
  * duration_s past the end.
  */
 static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int newest)
@@ -702,6 +702,9 @@ static void *thread_main(void *arg)
 	pthread_setname_np(pthread_self(), "hl-render");
 	hl_sched_start_thread("render", p->cfg.rt_priority, stderr);
 	rc = setup(p);
+	/* scenario time 0 on a live bus: the renderer is ready (its setup takes seconds in a slow
+	 * VM, which would otherwise pass before the first frame); published by the lock below */
+	p->t_start_ns = hl_clock_monotonic_ns();
 
 	pthread_mutex_lock(&p->lock);
 	p->start_rc = rc;
@@ -770,7 +773,6 @@ int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size)
 	int rc;
 
 	p->start_rc = 1;
-	p->t_start_ns = hl_clock_monotonic_ns();
 	rc = pthread_create(&p->thread, NULL, thread_main, p);
 	if (rc) {
 		snprintf(err, err_size, "cannot start the render thread: %s", strerror(rc));

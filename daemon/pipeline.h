@@ -95,8 +95,8 @@ void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
  * watchdog then kills the daemon (HDLAMPD_DEBUG_STALL_RENDER_AFTER_FRAMES, docs/daemon.md).
  * 0: never (the default).
  */
-/* CLOCK_MONOTONIC of scenario time 0 on a live bus: when the render thread started (valid after
- * hl_pipeline_start; any thread). The restbus's scenario clock. */
+/* CLOCK_MONOTONIC of scenario time 0 on a live bus: when the render thread had its renderer
+ * ready (valid after hl_pipeline_start; any thread). The restbus's scenario clock. */
 int64_t hl_pipeline_scene_t0_ns(const struct hl_pipeline *p);
 void hl_pipeline_debug_stall(struct hl_pipeline *p, uint64_t after_frames);
 

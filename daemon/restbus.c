@@ -291,6 +291,15 @@ static void serve_camera(struct hl_restbus *rb, int64_t d_ns, int64_t idx)
 			first[i] = false;
 		}
 	}
+	if (rb->cfg.loop) {
+		/* the road users the cycle carried, and when its last frame went out */
+		uint32_t visible = 0;
+
+		for (int k = 0; n >= 0 && k < o.n; k++)
+			if (o.obj[k].id >= 1 && o.obj[k].id <= 32)
+				visible |= 1u << (o.obj[k].id - 1);
+		hl_loop_latency_camera(rb->cfg.loop, d_ns, w.t_s, visible, hl_clock_monotonic_ns());
+	}
 	rb->cam.counter = rb->cam.counter >= rb->cam.counter_max ? 0 : rb->cam.counter + 1;
 	pthread_mutex_lock(&rb->lock);
 	rb->c.camera_cycles++;

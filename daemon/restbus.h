@@ -34,6 +34,7 @@
 
 #include "can/inputs.h"
 #include "can/socket.h"
+#include "daemon/loop_latency.h"
 #include "daemon/pose_input.h"
 #include "daemon/prom.h"
 #include "daemon/restbus_state.h"
@@ -51,6 +52,8 @@ struct hl_restbus_config {
 	enum hl_light_switch light_switch;
 	bool adb_enable;
 	int rt_priority; /* SCHED_FIFO of its thread; 0: normal scheduling */
+	/* NULL, or told of every camera cycle (its consumer, daemon/loop_latency.h) */
+	struct hl_loop_latency *loop;
 	FILE *log;
 };
 

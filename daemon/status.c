@@ -328,6 +328,8 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 	}
 	if (s->restbus)
 		hl_restbus_status_json(s->restbus, f);
+	if (s->loop)
+		hl_loop_latency_status_json(s->loop, f);
 	fputc('}', f);
 	n = ftell(f);
 	fclose(f);
@@ -429,5 +431,7 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 		pose_metrics(s->pose, &p);
 	if (s->restbus)
 		hl_restbus_metrics(s->restbus, &p);
+	if (s->loop)
+		hl_loop_latency_metrics(s->loop, &p);
 	return hl_prom_end(&p);
 }

@@ -25,6 +25,7 @@
 #include "daemon/http.h"
 #include "daemon/pipeline.h"
 #include "daemon/pose_input.h"
+#include "daemon/loop_latency.h"
 #include "daemon/restbus.h"
 #include "daemon/ring.h"
 #include "daemon/stream.h"
@@ -47,6 +48,7 @@ struct hl_status_sources {
 	struct hl_glare_live *glare; /* with pool: the scenario's time and the newest frame's glare */
 	struct hl_pose_input *pose; /* the pose input's counters and the newest pose's age */
 	struct hl_restbus *restbus; /* "restbus" in the JSON, hdlamp_restbus_* in the metrics */
+	struct hl_loop_latency *loop; /* "loop" in the JSON, hdlamp_loop_* in the metrics */
 };
 
 struct hl_status;

@@ -41,12 +41,24 @@ def parse(text):
         if fam["type"] == "counter":
             assert all(v >= 0 for _, _, v in fam["samples"]), name
         if fam["type"] == "histogram":
-            buckets = [(l, v) for s, l, v in fam["samples"] if s.endswith("_bucket")]
-            assert buckets[-1][0] == 'le="+Inf"'
-            values = [v for _, v in buckets]
-            assert values == sorted(values), f"{name}: buckets must be cumulative"
-            count = [v for s, _, v in fam["samples"] if s.endswith("_count")]
-            assert count == [values[-1]], f"{name}: _count equals the +Inf bucket"
+            # one series per set of labels other than le (e.g. stage="mask")
+            series = {}
+            for s, l, v in fam["samples"]:
+                le = re.search(r'(?:^|,)le="([^"]*)"', l)
+                key = re.sub(r',?le="[^"]*"', "", l).strip(",")
+                series.setdefault(key, {"buckets": [], "count": []})
+                if s.endswith("_bucket"):
+                    assert le, f"{name}: a bucket without le"
+                    series[key]["buckets"].append((le.group(1), v))
+                elif s.endswith("_count"):
+                    series[key]["count"].append(v)
+            for key, ser in series.items():
+                buckets = ser["buckets"]
+                assert buckets and buckets[-1][0] == "+Inf", f"{name}{{{key}}}: last bucket +Inf"
+                values = [v for _, v in buckets]
+                assert values == sorted(values), f"{name}{{{key}}}: buckets must be cumulative"
+                assert ser["count"] == [values[-1]], \
+                    f"{name}{{{key}}}: _count equals the +Inf bucket"
     return families
 
 

@@ -1,0 +1,181 @@
+/* SPDX-License-Identifier: MIT */
+/* The closed-loop run's report: see daemon/run_report.h. */
+#include "daemon/run_report.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void json_string(FILE *f, const char *s)
+{
+	fputc('"', f);
+	for (; s && *s; s++) {
+		const unsigned char ch = (unsigned char)*s;
+
+		if (ch == '"' || ch == '\\')
+			fprintf(f, "\\%c", ch);
+		else if (ch < 0x20)
+			fprintf(f, "\\u%04x", ch);
+		else
+			fputc(ch, f);
+	}
+	fputc('"', f);
+}
+
+/* Why the verdict failed, as a mask of these. */
+enum {
+	NO_FRAMES = 1,
+	NOT_JUDGED = 2,
+	SET_FAILED = 4,
+	GLARE_FAILED = 8,
+};
+
+static unsigned failures(const struct hl_run_report_sources *s)
+{
+	struct hl_pipeline_counts pc;
+	struct hl_loop_counts lc;
+	unsigned why = 0;
+
+	hl_pipeline_counts(s->pipe, &pc);
+	hl_loop_latency_counts(s->loop, &lc);
+	if (pc.frames == 0)
+		why |= NO_FRAMES;
+	if (lc.frames_dropped || lc.frames_judged != lc.frames_in)
+		why |= NOT_JUDGED;
+	for (int i = 0; s->verdicts && i < hl_verdicts_n_sets(s->verdicts); i++)
+		if (pc.verdict_failed_frames[i])
+			why |= SET_FAILED;
+	if (!hl_loop_latency_passed(s->loop))
+		why |= GLARE_FAILED;
+	return why;
+}
+
+bool hl_run_report_passed(const struct hl_run_report_sources *s)
+{
+	return failures(s) == 0;
+}
+
+void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
+{
+	static const char *const reasons[] = {
+		"no frame rendered", "frames not judged (the hand-over ring was full)",
+		"a verdict set failed on a frame",
+		("a road user's glare over its limit after the reaction time (or, without a "
+		 "restbus, at all)")
+	};
+	struct hl_pipeline_counts pc;
+	struct hl_input_status st;
+	struct hl_ring_counts rc;
+	const unsigned why = failures(s);
+	bool first = true;
+
+	hl_pipeline_counts(s->pipe, &pc);
+	hl_can_input_status(s->in, &st);
+	hl_ring_counts(s->ring, &rc);
+	fputs("{\"report\":\"hdlamp closed-loop run\",\"version\":1,\"scenario\":", f);
+	json_string(f, s->scenario_path);
+	fputs(",\"title\":", f);
+	json_string(f, s->sc->title);
+	fprintf(f, ",\"duration_s\":%.6g,\"end\":", s->sc->duration_s);
+	json_string(f, s->end);
+	fprintf(f,
+		",\"frames\":{\"rendered\":%" PRIu64 ",\"not_published\":%" PRIu64
+		",\"render_ms_max\":%.3f},\"snapshots\":{\"pushed\":%" PRIu64
+		",\"superseded\":%" PRIu64 ",\"dropped\":%" PRIu64 "},\"cycles\":{",
+		pc.frames, pc.not_published, pc.render_ms_max, rc.pushed, rc.superseded,
+		rc.dropped);
+	for (int l = 0; l < s->n_lamps; l++) {
+		const struct hl_lamp_counters *lc = &st.lamps[l];
+		const uint64_t nr = pc.cycles_not_rendered[l];
+
+		fprintf(f, "%s", l ? "," : "");
+		json_string(f, s->lamp_names[l]);
+		fprintf(f,
+			":{\"complete\":%" PRIu64 ",\"rendered\":%" PRIu64
+			",\"not_rendered\":%" PRIu64 ",\"lost\":%" PRIu64 ",\"incomplete\":%" PRIu64
+			",\"crc_errors\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64 "}",
+			lc->cycles, lc->cycles >= nr ? lc->cycles - nr : 0, nr, lc->lost_cycles,
+			lc->incomplete, lc->crc_errors, pc.failsafe_frames[l]);
+	}
+	fputs("},\"verdict_sets\":[", f);
+	for (int i = 0; s->verdicts && i < hl_verdicts_n_sets(s->verdicts); i++) {
+		fprintf(f, "%s{\"id\":", i ? "," : "");
+		json_string(f, hl_verdicts_set(s->verdicts, i)->id);
+		fprintf(f,
+			",\"frames\":%" PRIu64 ",\"passed\":%" PRIu64 ",\"failed\":%" PRIu64
+			",\"held\":%s}",
+			pc.verdict_frames[i], pc.verdict_frames[i] - pc.verdict_failed_frames[i],
+			pc.verdict_failed_frames[i],
+			pc.verdict_failed_frames[i] ? "false" : "true");
+	}
+	fputs("],\"glare_set\":", f);
+	json_string(f, s->glare_set);
+	fputc(',', f);
+	hl_loop_latency_report_json(s->loop, f);
+	if (s->restbus) {
+		struct hl_restbus_counts rb;
+
+		hl_restbus_counts(s->restbus, &rb);
+		fprintf(f,
+			",\"restbus\":{\"camera_cycles\":%" PRIu64 ",\"vehicle_cycles\":%" PRIu64
+			",\"overruns\":%" PRIu64 ",\"tx_full\":%" PRIu64 ",\"tx_errors\":%" PRIu64
+			",\"link_down\":%" PRIu64 "}",
+			rb.camera_cycles, rb.vehicle_cycles, rb.overruns, rb.tx_full, rb.tx_errors,
+			rb.link_down);
+	}
+	fprintf(f, ",\"verdict\":%s,\"failed_because\":[", why ? "false" : "true");
+	for (unsigned b = 0; b < 4; b++) {
+		if (!(why & (1u << b)))
+			continue;
+		fprintf(f, "%s\"%s\"", first ? "" : ",", reasons[b]);
+		first = false;
+	}
+	fputs("]}\n", f);
+}
+
+int hl_run_report_write(const struct hl_run_report_sources *s, const char *path)
+{
+	char tmp[4200];
+	FILE *f;
+	int rc = 0;
+
+	if (snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= (int)sizeof(tmp))
+		return -ENAMETOOLONG;
+	f = fopen(tmp, "we");
+	if (!f)
+		return -errno;
+	hl_run_report_json(s, f);
+	if (fflush(f) != 0 || ferror(f))
+		rc = -EIO;
+	if (fclose(f) != 0 && rc == 0)
+		rc = -errno;
+	if (rc == 0 && rename(tmp, path) < 0)
+		rc = -errno;
+	if (rc < 0)
+		unlink(tmp);
+	return rc;
+}
+
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,
+		      int code)
+{
+	bool passed;
+	int rc;
+
+	hl_loop_latency_finish(s->loop);
+	if (!path[0] && !exit_at_end)
+		return code;
+	passed = hl_run_report_passed(s);
+	if (path[0]) {
+		rc = hl_run_report_write(s, path);
+		if (rc < 0) {
+			fprintf(stderr, "hdlampd: loop.report '%s': %s\n", path, strerror(-rc));
+			return 1;
+		}
+	}
+	fprintf(stderr, "hdlampd: run ended (%s): verdict %s%s%s\n", s->end,
+		passed ? "held" : "FAILED", path[0] ? "; report in " : "", path);
+	return code == 0 && !passed ? 3 : code;
+}

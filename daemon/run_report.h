@@ -1,0 +1,57 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The closed-loop run's report (docs/loop.md, "The report"): one JSON object written at exit
+ * with the frames, the lamps' cycles (rendered, not rendered, dropped), each configured
+ * verdict set's frames passed and failed, the glare per road user, the loop latencies per
+ * event, and the verdict: true only when every configured verdict held — every verdict set on
+ * every frame it was evaluated on, and the scenario's glare rule (daemon/loop_latency.h) —
+ * with at least one frame rendered and every frame judged.
+ *
+ * Thread-safety: main thread, after the threads that feed the counters have stopped.
+ */
+#ifndef HL_DAEMON_RUN_REPORT_H
+#define HL_DAEMON_RUN_REPORT_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "daemon/can_input.h"
+#include "daemon/loop_latency.h"
+#include "daemon/pipeline.h"
+#include "daemon/restbus.h"
+#include "daemon/ring.h"
+#include "daemon/verdicts.h"
+#include "render/scenario.h"
+
+struct hl_run_report_sources {
+	const char *scenario_path;
+	const struct hl_scenario *sc;
+	const char *glare_set; /* the glare limits' regulation set */
+	int n_lamps;
+	const char *const *lamp_names;
+	struct hl_can_input *in;
+	struct hl_ring *ring;
+	struct hl_pipeline *pipe;
+	const struct hl_verdicts *verdicts; /* may be NULL */
+	struct hl_loop_latency *loop; /* finished (hl_loop_latency_finish) */
+	struct hl_restbus *restbus; /* may be NULL */
+	const char *end; /* how the run ended: "scenario_end", "replay_end", "signal" */
+};
+
+/* The verdict alone (what the report's "verdict" says). */
+bool hl_run_report_passed(const struct hl_run_report_sources *s);
+/* The report into f. */
+void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f);
+/* The report into path (written beside it and renamed). 0 or -errno. */
+int hl_run_report_write(const struct hl_run_report_sources *s, const char *path);
+
+/*
+ * At the run's end (every thread that fed the counters stopped): finishes the loop's judge,
+ * writes the report to path (if not empty) and logs the verdict. Returns the exit code: code
+ * when neither a report nor exit_at_end was asked for, else 3 when the verdict failed (and code
+ * was 0), 1 when the report could not be written.
+ */
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,
+		      int code);
+
+#endif
