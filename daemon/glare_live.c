@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "daemon/sched.h"
+#include "lamp/json_write.h"
 
 /* One frame in the history: what /glare.json gives per frame. */
 struct entry {
@@ -148,31 +149,6 @@ void hl_glare_live_counts(struct hl_glare_live *gl, struct hl_glare_live_counts 
 	pthread_mutex_unlock(&gl->lock);
 }
 
-static void json_string(FILE *f, const char *s)
-{
-	fputc('"', f);
-	for (; *s; s++) {
-		const unsigned char ch = (unsigned char)*s;
-
-		if (ch == '"' || ch == '\\')
-			fprintf(f, "\\%c", ch);
-		else if (ch < 0x20)
-			fprintf(f, "\\u%04x", ch);
-		else
-			fputc(ch, f);
-	}
-	fputc('"', f);
-}
-
-/* A number, or null when it is not finite (JSON has no NaN). */
-static void json_number(FILE *f, double v, const char *fmt)
-{
-	if (isfinite(v))
-		fprintf(f, fmt, v);
-	else
-		fputs("null", f);
-}
-
 void hl_glare_live_status_json(struct hl_glare_live *gl, const struct hl_frame *f,
 			       double pose_age_s, FILE *out)
 {
@@ -181,9 +157,9 @@ void hl_glare_live_status_json(struct hl_glare_live *gl, const struct hl_frame *
 
 	hl_glare_live_counts(gl, &c);
 	fputs(",\"scene\":{\"title\":", out);
-	json_string(out, sc->title);
+	hl_json_write_str(out, sc->title);
 	fprintf(out, ",\"duration_s\":%.6g,\"glare_set\":", sc->duration_s);
-	json_string(out, gl->reg->id);
+	hl_json_write_str(out, gl->reg->id);
 	fprintf(out, ",\"frames\":%" PRIu64 ",\"history_overwritten\":%" PRIu64, c.frames,
 		c.history_overwritten);
 	if (f)
@@ -197,16 +173,16 @@ void hl_glare_live_status_json(struct hl_glare_live *gl, const struct hl_frame *
 		const struct hl_glare_result *r = &f->glare[i];
 
 		fprintf(out, "%s{\"id\":", i ? "," : "");
-		json_string(out, sc->actor[i].id);
+		hl_json_write_str(out, sc->actor[i].id);
 		fprintf(out,
 			",\"kind\":\"%s\",\"role\":\"%s\",\"distance_m\":%.9g,\"eye_lux\":%.9g,"
 			"\"cd\":{\"left\":%.9g,\"right\":%.9g,\"pair_half\":%.9g},\"limit_cd\":",
 			hl_actor_kind_name(sc->actor[i].kind),
 			hl_actor_role_name(sc->actor[i].role), r->distance_m, r->illuminance_lx,
 			r->intensity_cd[0], r->intensity_cd[1], r->pair_half_cd);
-		json_number(out, r->limit.max_cd, "%.9g");
+		hl_json_write_num(out, r->limit.max_cd, "%.9g");
 		fputs(",\"limit_distance_m\":", out);
-		json_number(out, r->limit.table_distance_m, "%.9g");
+		hl_json_write_num(out, r->limit.table_distance_m, "%.9g");
 		fprintf(out, ",\"pass\":%s,\"fail_frames\":%" PRIu64 "}",
 			r->pass ? "true" : "false", c.fail_frames[i]);
 	}
@@ -313,11 +289,11 @@ int hl_glare_live_json(struct hl_glare_live *gl, char *buf, size_t size)
 		"{\"history_frames\":%zu,\"frames_kept\":%zu,\"frames\":%" PRIu64
 		",\"history_overwritten\":%" PRIu64 ",\"glare_set\":",
 		gl->n_history, used, c.frames, c.history_overwritten);
-	json_string(f, gl->reg->id);
+	hl_json_write_str(f, gl->reg->id);
 	fputs(",\"actors\":[", f);
 	for (int i = 0; i < sc->n_actors; i++) {
 		fprintf(f, "%s{\"id\":", i ? "," : "");
-		json_string(f, sc->actor[i].id);
+		hl_json_write_str(f, sc->actor[i].id);
 		fprintf(f, ",\"kind\":\"%s\",\"role\":\"%s\"}",
 			hl_actor_kind_name(sc->actor[i].kind),
 			hl_actor_role_name(sc->actor[i].role));

@@ -19,6 +19,7 @@
 
 #include "daemon/live_html.h"
 #include "daemon/sched.h"
+#include "lamp/json_write.h"
 
 #define BOUNDARY "hlframe"
 #define STREAM_WAIT_MS 200 /* a stream checks for shutdown this often while it waits */
@@ -302,29 +303,13 @@ static enum MHD_Result get_glare(struct hl_http *h, struct MHD_Connection *c)
 	return get_text(h, c, h->src.glare_json, "application/json");
 }
 
-/* JSON string body of s into out (size >= 6 * strlen + 1 is always enough). */
-static void json_escape(const char *s, char *out)
-{
-	for (; *s; s++) {
-		const unsigned char ch = (unsigned char)*s;
-
-		if (ch == '"' || ch == '\\') {
-			*out++ = '\\';
-			*out++ = (char)ch;
-		} else if (ch < 0x20) {
-			out += sprintf(out, "\\u%04x", ch);
-		} else {
-			*out++ = (char)ch;
-		}
-	}
-	*out = '\0';
-}
-
 static enum MHD_Result post_capture(struct hl_http *h, struct MHD_Connection *c)
 {
 	char path[CAPTURE_PATH_MAX] = "";
 	unsigned int status = MHD_HTTP_OK;
-	char *body;
+	char *body = NULL;
+	size_t len = 0;
+	FILE *f;
 	int rc;
 
 	if (!h->allow_capture || !h->src.capture)
@@ -341,13 +326,17 @@ static enum MHD_Result post_capture(struct hl_http *h, struct MHD_Connection *c)
 	else if (rc < 0)
 		status = MHD_HTTP_INTERNAL_SERVER_ERROR;
 	/* {"path": the directory} or {"error": why, naming the file}; path is the callback's text */
-	body = malloc(strlen(path) * 6 + 16);
-	if (!body)
+	f = open_memstream(&body, &len);
+	if (!f)
 		return respond_error(h, c, MHD_HTTP_INTERNAL_SERVER_ERROR, "out of memory");
-	strcpy(body, rc < 0 ? "{\"error\":\"" : "{\"path\":\"");
-	json_escape(path, body + strlen(body));
-	strcat(body, "\"}\n");
-	return respond(h, c, status, "application/json", body, strlen(body), MHD_RESPMEM_MUST_FREE);
+	fputs(rc < 0 ? "{\"error\":" : "{\"path\":", f);
+	hl_json_write_str(f, path);
+	fputs("}\n", f);
+	if (fclose(f) != 0 || !body) {
+		free(body);
+		return respond_error(h, c, MHD_HTTP_INTERNAL_SERVER_ERROR, "out of memory");
+	}
+	return respond(h, c, status, "application/json", body, len, MHD_RESPMEM_MUST_FREE);
 }
 
 /* --- the MJPEG stream --- */

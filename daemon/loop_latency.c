@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "daemon/sched.h"
+#include "lamp/json_write.h"
 
 #define MS_NS 1e6
 
@@ -429,14 +430,6 @@ static double percentile(struct hl_loop_latency *ll, int stage, double p)
 	return v[(int)ceil(p * n) - 1 < 0 ? 0 : (int)ceil(p * n) - 1];
 }
 
-static void json_num(FILE *f, double v)
-{
-	if (isfinite(v))
-		fprintf(f, "%.3f", v);
-	else
-		fputs("null", f);
-}
-
 static void summary_json(struct hl_loop_latency *ll, const struct hl_loop_counts *c, FILE *f)
 {
 	fprintf(f,
@@ -450,11 +443,11 @@ static void summary_json(struct hl_loop_latency *ll, const struct hl_loop_counts
 	for (int s = 0; s < 3; s++) {
 		fprintf(f, "%s\"%s\":{\"n\":%" PRIu64 ",\"p50\":", s ? "," : "", stage_names[s],
 			c->latency_s[s].count);
-		json_num(f, percentile(ll, s, 0.5));
+		hl_json_write_num(f, percentile(ll, s, 0.5), "%.3f");
 		fputs(",\"p99\":", f);
-		json_num(f, percentile(ll, s, 0.99));
+		hl_json_write_num(f, percentile(ll, s, 0.99), "%.3f");
 		fputs(",\"max\":", f);
-		json_num(f, percentile(ll, s, 1.0));
+		hl_json_write_num(f, percentile(ll, s, 1.0), "%.3f");
 		fputc('}', f);
 	}
 	fprintf(f, "},\"passed\":%s,\"actors\":[", hl_loop_latency_passed(ll) ? "true" : "false");

@@ -14,6 +14,7 @@
 #include "daemon/clock.h"
 #include "daemon/sched.h"
 #include "render/world.h"
+#include "lamp/json_write.h"
 
 #define MS_NS 1000000LL
 
@@ -451,30 +452,15 @@ void hl_restbus_counts(struct hl_restbus *rb, struct hl_restbus_counts *ret)
 	pthread_mutex_unlock(&rb->lock);
 }
 
-/* s as a JSON string */
-static void json_string(FILE *f, const char *s)
-{
-	fputc('"', f);
-	for (; *s; s++) {
-		if (*s == '"' || *s == '\\')
-			fprintf(f, "\\%c", *s);
-		else if ((unsigned char)*s < 0x20)
-			fprintf(f, "\\u%04x", (unsigned char)*s);
-		else
-			fputc(*s, f);
-	}
-	fputc('"', f);
-}
-
 void hl_restbus_status_json(struct hl_restbus *rb, FILE *f)
 {
 	struct hl_restbus_counts c;
 
 	hl_restbus_counts(rb, &c);
 	fputs(",\"restbus\":{\"interface\":", f);
-	json_string(f, rb->iface);
+	hl_json_write_str(f, rb->iface);
 	fputs(",\"dbc\":", f);
-	json_string(f, rb->cfg.dbc);
+	hl_json_write_str(f, rb->cfg.dbc);
 	fprintf(f,
 		",\"t0_monotonic_ns\":%" PRId64 ",\"open\":%s,\"bus\":\"%s\",\"bus_off\":%" PRIu64
 		",\"error_frames\":%" PRIu64 ",\"vehicle_cycles\":%" PRIu64

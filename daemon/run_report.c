@@ -1,28 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* The closed-loop run's report: see daemon/run_report.h. */
 #include "daemon/run_report.h"
+#include "lamp/json_write.h"
 
 #include <errno.h>
 #include <inttypes.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-static void json_string(FILE *f, const char *s)
-{
-	fputc('"', f);
-	for (; s && *s; s++) {
-		const unsigned char ch = (unsigned char)*s;
-
-		if (ch == '"' || ch == '\\')
-			fprintf(f, "\\%c", ch);
-		else if (ch < 0x20)
-			fprintf(f, "\\u%04x", ch);
-		else
-			fputc(ch, f);
-	}
-	fputc('"', f);
-}
 
 /* Why the verdict failed, as a mask of these. */
 enum {
@@ -75,11 +60,11 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 	hl_can_input_status(s->in, &st);
 	hl_ring_counts(s->ring, &rc);
 	fputs("{\"report\":\"hdlamp closed-loop run\",\"version\":1,\"scenario\":", f);
-	json_string(f, s->scenario_path);
+	hl_json_write_str(f, s->scenario_path);
 	fputs(",\"title\":", f);
-	json_string(f, s->sc->title);
+	hl_json_write_str(f, s->sc->title);
 	fprintf(f, ",\"duration_s\":%.6g,\"end\":", s->sc->duration_s);
-	json_string(f, s->end);
+	hl_json_write_str(f, s->end);
 	fprintf(f,
 		",\"frames\":{\"rendered\":%" PRIu64 ",\"not_published\":%" PRIu64
 		",\"render_ms_max\":%.3f},\"snapshots\":{\"pushed\":%" PRIu64
@@ -91,7 +76,7 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 		const uint64_t nr = pc.cycles_not_rendered[l];
 
 		fprintf(f, "%s", l ? "," : "");
-		json_string(f, s->lamp_names[l]);
+		hl_json_write_str(f, s->lamp_names[l]);
 		fprintf(f,
 			":{\"complete\":%" PRIu64 ",\"rendered\":%" PRIu64
 			",\"not_rendered\":%" PRIu64 ",\"lost\":%" PRIu64 ",\"incomplete\":%" PRIu64
@@ -102,7 +87,7 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 	fputs("},\"verdict_sets\":[", f);
 	for (int i = 0; s->verdicts && i < hl_verdicts_n_sets(s->verdicts); i++) {
 		fprintf(f, "%s{\"id\":", i ? "," : "");
-		json_string(f, hl_verdicts_set(s->verdicts, i)->id);
+		hl_json_write_str(f, hl_verdicts_set(s->verdicts, i)->id);
 		fprintf(f,
 			",\"frames\":%" PRIu64 ",\"passed\":%" PRIu64 ",\"failed\":%" PRIu64
 			",\"held\":%s}",
@@ -111,7 +96,7 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 			pc.verdict_failed_frames[i] ? "false" : "true");
 	}
 	fputs("],\"glare_set\":", f);
-	json_string(f, s->glare_set);
+	hl_json_write_str(f, s->glare_set);
 	fputc(',', f);
 	hl_loop_latency_report_json(s->loop, f);
 	if (s->restbus) {

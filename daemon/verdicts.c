@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include "daemon/verdicts.h"
+#include "lamp/json_write.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -407,31 +408,6 @@ void hl_verdicts_road_to_header(const struct hl_road_kpi *k, struct hl_frame_hea
 
 /* ---------------------------------------------------------------- readers */
 
-static void json_string(FILE *f, const char *s)
-{
-	fputc('"', f);
-	for (; *s; s++) {
-		const unsigned char c = (unsigned char)*s;
-
-		if (c == '"' || c == '\\')
-			fprintf(f, "\\%c", c);
-		else if (c < 0x20)
-			fprintf(f, "\\u%04x", c);
-		else
-			fputc(c, f);
-	}
-	fputc('"', f);
-}
-
-/* A number, or null for NaN and infinities (JSON has neither). */
-static void json_number(FILE *f, double x)
-{
-	if (isfinite(x))
-		fprintf(f, "%.9g", x);
-	else
-		fputs("null", f);
-}
-
 static bool part_pass(const struct hl_regulation *reg, const struct hl_req_result *r)
 {
 	for (int k = 0; k < reg->n_requirements; k++)
@@ -447,24 +423,24 @@ static void json_part(const struct hl_verdicts *v, int i, int j, const struct hl
 	const struct hl_req_result *r = f->results + s->part[j].first;
 
 	fputs("{\"lamp\":", out);
-	json_string(out, hl_verdicts_part_name(v, i, j));
+	hl_json_write_str(out, hl_verdicts_part_name(v, i, j));
 	fprintf(out, ",\"pass\":%s,\"requirements\":[", part_pass(s->reg, r) ? "true" : "false");
 	for (int k = 0; k < s->reg->n_requirements; k++) {
 		fputs(k ? ",{\"id\":" : "{\"id\":", out);
-		json_string(out, s->reg->req[k].id);
+		hl_json_write_str(out, s->reg->req[k].id);
 		fprintf(out,
 			",\"kind\":\"%s\",\"value_cd\":", hl_req_kind_name(s->reg->req[k].kind));
-		json_number(out, r[k].value_cd);
+		hl_json_write_num(out, r[k].value_cd, "%.9g");
 		fputs(",\"min_cd\":", out);
-		json_number(out, r[k].min_cd);
+		hl_json_write_num(out, r[k].min_cd, "%.9g");
 		fputs(",\"max_cd\":", out);
-		json_number(out, r[k].max_cd);
+		hl_json_write_num(out, r[k].max_cd, "%.9g");
 		fputs(",\"margin\":", out);
-		json_number(out, r[k].margin);
+		hl_json_write_num(out, r[k].margin, "%.9g");
 		fprintf(out, ",\"pass\":%s,\"at_h_deg\":", r[k].pass ? "true" : "false");
-		json_number(out, r[k].at_h_deg);
+		hl_json_write_num(out, r[k].at_h_deg, "%.9g");
 		fputs(",\"at_v_deg\":", out);
-		json_number(out, r[k].at_v_deg);
+		hl_json_write_num(out, r[k].at_v_deg, "%.9g");
 		fprintf(out, ",\"n_outside\":%d}", r[k].n_outside);
 	}
 	fputs("]}", out);
@@ -485,7 +461,7 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, con
 	if (!f || v->mode_lamp < 0 || f->beam_mode < 0)
 		fputs("null", out);
 	else if (hl_verdicts_mode_name(v, f->beam_mode))
-		json_string(out, hl_verdicts_mode_name(v, f->beam_mode));
+		hl_json_write_str(out, hl_verdicts_mode_name(v, f->beam_mode));
 	else
 		fprintf(out, "%" PRId64, f->beam_mode);
 	fputs(",\"sets\":[", out);
@@ -494,9 +470,9 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, con
 		const bool evaluated = f && (f->hdr.sets_evaluated & (1u << i));
 
 		fputs(i ? ",{\"id\":" : "{\"id\":", out);
-		json_string(out, s->reg->id);
+		hl_json_write_str(out, s->reg->id);
 		fputs(",\"title\":", out);
-		json_string(out, s->reg->title);
+		hl_json_write_str(out, s->reg->title);
 		fprintf(out, ",\"applies\":\"%s\",\"evaluated\":%s,\"pass\":%s",
 			s->reg->applies == HL_REG_PAIR_HALF ? "pair_half" : "each_lamp",
 			evaluated ? "true" : "false",

@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "lamp/angles.h"
+
 #define DEG (M_PI / 180.0)
 
 static double dot(const double a[3], const double b[3])
@@ -125,27 +127,10 @@ void hl_lamp_pose_default(int side, struct hl_lamp_pose *ret)
 
 void hl_lamp_basis(const struct hl_lamp_pose *pose, double x[3], double y[3], double z[3])
 {
-	const double cy = cos(pose->yaw_deg * DEG), sy = sin(pose->yaw_deg * DEG);
-	const double cp = cos(pose->pitch_deg * DEG), sp = sin(pose->pitch_deg * DEG);
-
-	/* Optical axis after yaw then pitch; lamp x is the vehicle's right (-y) turned by yaw. */
-	z[0] = cp * cy;
-	z[1] = cp * sy;
-	z[2] = sp;
-	x[0] = sy;
-	x[1] = -cy;
-	x[2] = 0.0;
-	cross(x, z, y);
+	hl_mount_basis(pose->yaw_deg, pose->pitch_deg, x, y, z);
 }
 
 void hl_lamp_to_lamp_space(const struct hl_lamp_pose *pose, const double p[3], double ret[3])
 {
-	double x[3], y[3], z[3], d[3];
-
-	hl_lamp_basis(pose, x, y, z);
-	for (int i = 0; i < 3; i++)
-		d[i] = p[i] - pose->pos_m[i];
-	ret[0] = dot(d, x);
-	ret[1] = dot(d, y);
-	ret[2] = dot(d, z);
+	hl_mount_to_local(pose->pos_m, pose->yaw_deg, pose->pitch_deg, p, ret);
 }
