@@ -543,6 +543,53 @@ static void dynamic_fill_frames_equal_fresh_renderers(void **state)
 }
 
 /*
+ * What hdlampd does before the first cycle of a moving scenario (daemon/pipeline.c's warm-up):
+ * a frame with the lamps dark filled from one scene, then the lamps on and a fill from
+ * another. The dark frame lights nothing, and the lit one equals a fresh renderer's frame of
+ * its scene (CPU with fill_only on 2 threads and moving on 1, bit for bit; GLES against fresh
+ * GLES).
+ */
+static void dynamic_dark_warm_up_frame_then_lit_frame_equals_fresh(void **state)
+{
+	struct hl_gbuffer *live = NULL;
+	float *lux = malloc(sizeof(float) * N_PIX), *fresh = malloc(sizeof(float) * N_PIX);
+
+	(void)state;
+	assert_non_null(ref[ROAD_CARS_MOVED]);
+	assert_int_equal(hl_gbuffer_new(W, H, &live), 0);
+	for (int v = 0; v < 3; v++) {
+		const enum hl_backend light = v == 2 ? HL_BACKEND_GLES : HL_BACKEND_CPU;
+		struct fill_src warm = { gbs[ROAD_CARS], 0 }, lit = { gbs[ROAD_CARS_MOVED], 0 };
+		struct hl_renderer_config cfg;
+		struct hl_renderer *r = NULL;
+
+		copy_gbuffer(live, gbs[ROAD]);
+		config(&cfg, light, true, v == 1 ? 1 : 2);
+		cfg.fill_only = v == 0;
+		assert_int_equal(hl_renderer_new(&cfg, live, &r), 0);
+		assert_int_equal(hl_renderer_set_gbuffer_fill(r, live, fill_copy, &warm), 0);
+		assert_int_equal(hl_renderer_frame(r, lux), 0);
+		assert_int_equal(warm.filled, N_PIX);
+		for (size_t i = 0; i < N_PIX; i++)
+			assert_true(lux[i] == 0.0f);
+		set_high(r);
+		assert_int_equal(hl_renderer_set_gbuffer_fill(r, live, fill_copy, &lit), 0);
+		assert_int_equal(hl_renderer_frame(r, lux), 0);
+		assert_int_equal(lit.filled, N_PIX);
+		if (light == HL_BACKEND_CPU) {
+			assert_memory_equal(lux, ref[ROAD_CARS_MOVED], sizeof(float) * N_PIX);
+		} else {
+			fresh_frame(gbs[ROAD_CARS_MOVED], HL_BACKEND_GLES, fresh);
+			assert_memory_equal(lux, fresh, sizeof(float) * N_PIX);
+		}
+		hl_renderer_free(r);
+	}
+	hl_gbuffer_free(live);
+	free(lux);
+	free(fresh);
+}
+
+/*
  * No frame of a moving scene allocates: with config moving from the start, without it after
  * the first hl_renderer_set_gbuffer() (which makes the room).
  */
@@ -611,6 +658,7 @@ int main(void)
 		cmocka_unit_test(dynamic_headlight_update_keeps_the_work_count),
 		cmocka_unit_test(dynamic_gles_frames_match),
 		cmocka_unit_test(dynamic_fill_frames_equal_fresh_renderers),
+		cmocka_unit_test(dynamic_dark_warm_up_frame_then_lit_frame_equals_fresh),
 		cmocka_unit_test(dynamic_frames_allocate_nothing),
 		cmocka_unit_test(dynamic_set_gbuffer_checks_the_size),
 	};
