@@ -144,7 +144,7 @@ static void set_high(struct hl_renderer *r)
 	}
 }
 
-/* A fresh CPU renderer's frame of gb. */
+/* A fresh renderer's frame of gb (lamps on high). */
 static void fresh_frame(const struct hl_gbuffer *gb, enum hl_backend light, float *lux)
 {
 	struct hl_renderer_config cfg;
@@ -155,6 +155,18 @@ static void fresh_frame(const struct hl_gbuffer *gb, enum hl_backend light, floa
 	set_high(r);
 	assert_int_equal(hl_renderer_frame(r, lux), 0);
 	hl_renderer_free(r);
+}
+
+/* lux equals a fresh renderer's frame of gbs[scene]: the CPU reference bit for bit, or with
+ * GLES a fresh GLES frame (rendered into fresh) bit for bit. */
+static void expect_fresh(enum hl_backend light, int scene, const float *lux, float *fresh)
+{
+	if (light == HL_BACKEND_CPU) {
+		assert_memory_equal(lux, ref[scene], sizeof(float) * N_PIX);
+	} else {
+		fresh_frame(gbs[scene], HL_BACKEND_GLES, fresh);
+		assert_memory_equal(lux, fresh, sizeof(float) * N_PIX);
+	}
 }
 
 static int setup(void **state)
@@ -524,12 +536,7 @@ static void dynamic_fill_frames_equal_fresh_renderers(void **state)
 				assert_int_equal(hl_renderer_frame(r, lux), 0);
 				if (s != plain)
 					assert_int_equal(f.filled, N_PIX);
-				if (light == HL_BACKEND_CPU) {
-					assert_memory_equal(lux, ref[scene], sizeof(float) * N_PIX);
-				} else {
-					fresh_frame(gbs[scene], HL_BACKEND_GLES, fresh);
-					assert_memory_equal(lux, fresh, sizeof(float) * N_PIX);
-				}
+				expect_fresh(light, scene, lux, fresh);
 				frames++;
 			}
 			hl_renderer_free(r);
@@ -576,12 +583,7 @@ static void dynamic_dark_warm_up_frame_then_lit_frame_equals_fresh(void **state)
 		assert_int_equal(hl_renderer_set_gbuffer_fill(r, live, fill_copy, &lit), 0);
 		assert_int_equal(hl_renderer_frame(r, lux), 0);
 		assert_int_equal(lit.filled, N_PIX);
-		if (light == HL_BACKEND_CPU) {
-			assert_memory_equal(lux, ref[ROAD_CARS_MOVED], sizeof(float) * N_PIX);
-		} else {
-			fresh_frame(gbs[ROAD_CARS_MOVED], HL_BACKEND_GLES, fresh);
-			assert_memory_equal(lux, fresh, sizeof(float) * N_PIX);
-		}
+		expect_fresh(light, ROAD_CARS_MOVED, lux, fresh);
 		hl_renderer_free(r);
 	}
 	hl_gbuffer_free(live);
