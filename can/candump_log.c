@@ -167,20 +167,3 @@ void hl_candump_log_stats(const struct hl_candump_log *log, struct hl_candump_lo
 {
 	*ret = log->st;
 }
-
-int64_t hl_monotonic_ns(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
-void hl_sleep_until(int64_t t_ns, const volatile int *stop)
-{
-	struct timespec ts = { .tv_sec = t_ns / 1000000000, .tv_nsec = t_ns % 1000000000 };
-
-	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
-		if (stop && *stop)
-			return;
-}

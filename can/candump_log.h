@@ -61,8 +61,4 @@ int hl_candump_log_next(struct hl_candump_log *log, struct hl_candump_frame *ret
 
 void hl_candump_log_stats(const struct hl_candump_log *log, struct hl_candump_log_stats *ret);
 
-/* Sleeps until t_ns on CLOCK_MONOTONIC (absolute), resuming after signals unless *stop. */
-void hl_sleep_until(int64_t t_ns, const volatile int *stop);
-int64_t hl_monotonic_ns(void);
-
 #endif

@@ -2,7 +2,7 @@
 /*
  * The headlamp ECU's inputs on CAN: vehicle state and the front camera's object list, as
  * dbc/hd84_inputs.dbc lays them out and as any database carrying the same DBC attributes does
- * (docs/ecu-inputs.md). The restbus (daemon/restbus.c) encodes them, the reference virtual ECU
+ * (docs/ecu-inputs.md). The restbus (daemon/loop/restbus.c) encodes them, the reference virtual ECU
  * (`hdlamp ecu`) decodes them; a real ECU's own database maps onto them without code.
  *
  * Semantics come from DBC attributes, not from names:

@@ -7,9 +7,13 @@
 # include of a layer it does not link fails with "No such file or directory".
 #
 # hl_layer(TARGET FOLDER) makes FOLDER's headers visible to TARGET and to whoever links it.
+# A room inside a folder (daemon/core) gets a directory of its own too (layers/daemon_core holding
+# daemon/core -> the source folder), so that linking it shows that room and not its siblings.
 function(hl_layer target folder)
-	set(dir ${CMAKE_BINARY_DIR}/layers/${folder})
-	file(MAKE_DIRECTORY ${dir})
+	string(REPLACE "/" "_" key ${folder})
+	set(dir ${CMAKE_BINARY_DIR}/layers/${key})
+	get_filename_component(parent ${dir}/${folder} DIRECTORY)
+	file(MAKE_DIRECTORY ${parent})
 	if(NOT EXISTS ${dir}/${folder})
 		file(CREATE_LINK ${CMAKE_SOURCE_DIR}/${folder} ${dir}/${folder} SYMBOLIC)
 	endif()

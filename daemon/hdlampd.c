@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "can/assembler.h"
-#include "daemon/config.h"
+#include "daemon/core/config.h"
 #include "daemon/live.h"
 
 #define MAX_OVERRIDES 128

@@ -20,25 +20,25 @@
 #include <unistd.h>
 
 #include "can/socket.h"
-#include "daemon/can_input.h"
-#include "daemon/capture_queue.h"
-#include "daemon/clock.h"
-#include "daemon/decode_report.h"
-#include "daemon/frame_pool.h"
-#include "daemon/glare_live.h"
-#include "daemon/gpio.h"
-#include "daemon/http.h"
-#include "daemon/loop_latency.h"
-#include "daemon/notify.h"
+#include "daemon/core/can_input.h"
+#include "daemon/out/capture_queue.h"
+#include "base/clock.h"
+#include "daemon/core/decode_report.h"
+#include "daemon/core/frame_pool.h"
+#include "daemon/core/glare_live.h"
+#include "daemon/out/gpio.h"
+#include "daemon/out/http.h"
+#include "daemon/loop/loop_latency.h"
+#include "daemon/out/notify.h"
 #include "daemon/pipeline.h"
-#include "daemon/pose_input.h"
-#include "daemon/restbus.h"
+#include "daemon/loop/pose_input.h"
+#include "daemon/loop/restbus.h"
 #include "daemon/run_report.h"
 #include "daemon/status.h"
-#include "daemon/stream.h"
-#include "daemon/verdicts.h"
+#include "daemon/out/stream.h"
+#include "daemon/core/verdicts.h"
 #include "lamp/preset.h"
-#include "lamp/share_dir.h"
+#include "base/share_dir.h"
 
 #define POOL_FRAMES 8
 
@@ -739,7 +739,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		if (done) {
 			/* a finite replay ended: let the last frame out, then stop */
 			if (lv.pipe)
-				hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + 200000000);
+				hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + 200000000, NULL);
 			code = 0;
 			break;
 		}

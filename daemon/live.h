@@ -11,7 +11,7 @@
 
 #include <stdbool.h>
 
-#include "daemon/config.h"
+#include "daemon/core/config.h"
 
 struct hl_live_args {
 	const char *config_path; /* re-read on SIGHUP; NULL: nothing to re-read */

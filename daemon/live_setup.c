@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "lamp/share_dir.h"
+#include "base/share_dir.h"
 
 #define ECU_CYCLE_MS 20.0 /* the dimming period of docs/design.md §1 */
 
@@ -120,7 +120,7 @@ int hl_live_setup_scene(struct live *lv)
 }
 
 /*
- * The loop's judge (daemon/loop_latency.h): with a scenario and a restbus, a report, an end or
+ * The loop's judge (daemon/loop/loop_latency.h): with a scenario and a restbus, a report, an end or
  * event lines asked for. loop.events opens here (a bad path is a configuration error).
  */
 int hl_live_setup_loop(struct live *lv)

@@ -14,16 +14,17 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "daemon/clock.h"
-#include "daemon/glare_live.h"
-#include "daemon/pose_input.h"
-#include "daemon/sched.h"
+#include "base/clock.h"
+#include "daemon/core/glare_live.h"
+#include "daemon/loop/pose_input.h"
+#include "base/sched.h"
 #include "render/egl.h"
 #include "render/pixel.h"
 #include "render/renderer.h"
 #include "render/view.h"
 #include "render/workers.h"
 #include "render/world_scene.h"
+#include "daemon/core/sched_start.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
 /*
@@ -74,7 +75,7 @@ struct hl_pipeline {
 	char describe[256];
 	uint64_t last_seq[HL_FRAME_MAX_LAMPS]; /* each lamp's cycle in the last frame rendered */
 	/*
-	 * THE world state of the frame being rendered (render/world.h): where the ego and every
+	 * THE world state of the frame being rendered (world/world.h): where the ego and every
 	 * road user are and whose lamps are lit. scene_at() fills it at the start of render(),
 	 * before the renderer runs; the glare, the header and /status read it. The renderer is to
 	 * draw this same instant (the moving scene): pass &p->world to it where render() says.
@@ -695,7 +696,7 @@ static void coalesce(struct hl_pipeline *p, int64_t coalesce_ns)
 static void stall(struct hl_pipeline *p)
 {
 	while (!atomic_load(&p->stop))
-		hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + IDLE_WAKE_MS * 1000000ll);
+		hl_clock_sleep_until_ns(hl_clock_monotonic_ns() + IDLE_WAKE_MS * 1000000ll, NULL);
 }
 
 static void *thread_main(void *arg)

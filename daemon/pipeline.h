@@ -11,7 +11,7 @@
  * the main thread; counts (locked) and describe, gbuffer, camera (fixed once started) from any
  * thread; the rest runs on the render thread. The hook runs on the render thread and must not
  * block. Published frames reach the outputs through the pool's subscribers; the ring's
- * eventfd wakes the thread. The verdicts (daemon/verdicts.h) are read-only; the render thread
+ * eventfd wakes the thread. The verdicts (daemon/core/verdicts.h) are read-only; the render thread
  * evaluates them into each frame before publishing it, so readers see a frame's results whole.
  */
 #ifndef HL_DAEMON_PIPELINE_H
@@ -19,13 +19,13 @@
 
 #include <stdint.h>
 
-#include "daemon/config.h"
-#include "daemon/frame_pool.h"
-#include "daemon/prom.h"
-#include "daemon/ring.h"
-#include "daemon/verdicts.h"
+#include "daemon/core/config.h"
+#include "daemon/core/frame_pool.h"
+#include "daemon/core/prom.h"
+#include "daemon/core/ring.h"
+#include "daemon/core/verdicts.h"
 #include "lamp/lid.h"
-#include "render/scenario.h"
+#include "world/scenario.h"
 #include "render/scene.h"
 
 struct hl_pipeline_hooks {
@@ -102,7 +102,7 @@ void hl_pipeline_debug_stall(struct hl_pipeline *p, uint64_t after_frames);
 
 /*
  * Starts the render thread (named hl-render, at SCHED_FIFO cfg->rt_priority when that is > 0,
- * daemon/sched.h) and waits until it has an EGL context and a renderer (or failed:
+ * base/sched.h) and waits until it has an EGL context and a renderer (or failed:
  * then err says why). 0, -errno.
  */
 int hl_pipeline_start(struct hl_pipeline *p, char *err, size_t err_size);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The closed-loop run's report: see daemon/run_report.h. */
 #include "daemon/run_report.h"
-#include "lamp/json_write.h"
+#include "base/json_write.h"
 
 #include <errno.h>
 #include <inttypes.h>

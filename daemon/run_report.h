@@ -4,7 +4,7 @@
  * with the frames, the lamps' cycles (rendered, not rendered, dropped), each configured
  * verdict set's frames passed and failed, the glare per road user, the loop latencies per
  * event, and the verdict: true only when every configured verdict held — every verdict set on
- * every frame it was evaluated on, and the scenario's glare rule (daemon/loop_latency.h) —
+ * every frame it was evaluated on, and the scenario's glare rule (daemon/loop/loop_latency.h) —
  * with at least one frame rendered and every frame judged.
  *
  * Thread-safety: main thread, after the threads that feed the counters have stopped.
@@ -15,13 +15,13 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-#include "daemon/can_input.h"
-#include "daemon/loop_latency.h"
+#include "daemon/core/can_input.h"
+#include "daemon/loop/loop_latency.h"
 #include "daemon/pipeline.h"
-#include "daemon/restbus.h"
-#include "daemon/ring.h"
-#include "daemon/verdicts.h"
-#include "render/scenario.h"
+#include "daemon/loop/restbus.h"
+#include "daemon/core/ring.h"
+#include "daemon/core/verdicts.h"
+#include "world/scenario.h"
 
 struct hl_run_report_sources {
 	const char *scenario_path;

@@ -8,9 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "daemon/clock.h"
-#include "daemon/prom.h"
-#include "daemon/sched.h"
+#include "base/clock.h"
+#include "daemon/core/prom.h"
+#include "base/sched.h"
 
 struct hl_status {
 	struct hl_status_sources src;
@@ -95,7 +95,7 @@ static const char *failsafe_name(enum hl_failsafe m)
 	return m == HL_FAILSAFE_HOLD ? "hold" : m == HL_FAILSAFE_DARK ? "dark" : "preset";
 }
 
-/* The frame stream's clients and frames (daemon/stream.h): "stream":{...}. */
+/* The frame stream's clients and frames (daemon/out/stream.h): "stream":{...}. */
 static void stream_json(FILE *f, const struct hl_stream_counts *c)
 {
 	fprintf(f,
@@ -147,7 +147,7 @@ static void stream_metrics(struct hl_prom *p, const struct hl_stream_counts *c)
 
 static const char *const image_kinds[HL_IMAGE_KINDS] = { "jpeg", "png", "exr" };
 
-/* The HTTP server's counters (daemon/http.h, docs/daemon.md "HTTP live view"). */
+/* The HTTP server's counters (daemon/out/http.h, docs/daemon.md "HTTP live view"). */
 static void http_json(struct hl_http *h, FILE *f)
 {
 	struct hl_http_counts c;

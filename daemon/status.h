@@ -2,7 +2,7 @@
 /*
  * The daemon's status for other threads: the /status JSON (also printed at exit) and the
  * /metrics text, read from the input's, ring's, renderer's, pool's and outputs' own counters
- * and from the newest published frame (its verdicts and road KPIs, daemon/verdicts.h),
+ * and from the newest published frame (its verdicts and road KPIs, daemon/core/verdicts.h),
  * plus what only the main thread changes (the fail-safe mode a reload sets, the reload count),
  * which it keeps under its own lock.
  *
@@ -16,20 +16,20 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "daemon/can_input.h"
-#include "daemon/capture_queue.h"
-#include "daemon/config.h"
-#include "daemon/frame_pool.h"
-#include "daemon/glare_live.h"
-#include "daemon/gpio.h"
-#include "daemon/http.h"
+#include "daemon/core/can_input.h"
+#include "daemon/out/capture_queue.h"
+#include "daemon/core/config.h"
+#include "daemon/core/frame_pool.h"
+#include "daemon/core/glare_live.h"
+#include "daemon/out/gpio.h"
+#include "daemon/out/http.h"
 #include "daemon/pipeline.h"
-#include "daemon/pose_input.h"
-#include "daemon/loop_latency.h"
-#include "daemon/restbus.h"
-#include "daemon/ring.h"
-#include "daemon/stream.h"
-#include "daemon/verdicts.h"
+#include "daemon/loop/pose_input.h"
+#include "daemon/loop/loop_latency.h"
+#include "daemon/loop/restbus.h"
+#include "daemon/core/ring.h"
+#include "daemon/out/stream.h"
+#include "daemon/core/verdicts.h"
 
 /* What the status reads; every pointer must outlive it. NULL: that part is off (zeros). */
 struct hl_status_sources {
@@ -63,7 +63,7 @@ void hl_status_reloaded(struct hl_status *st, enum hl_failsafe failsafe);
 
 /* The status as one JSON object, NUL-terminated: its length, or -ENOBUFS, -errno. */
 int hl_status_json(struct hl_status *st, char *buf, size_t size);
-/* The counters as Prometheus text (daemon/prom.h): its length, or -ENOBUFS. */
+/* The counters as Prometheus text (daemon/core/prom.h): its length, or -ENOBUFS. */
 int hl_status_metrics(struct hl_status *st, char *buf, size_t size);
 
 #endif

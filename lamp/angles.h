@@ -19,7 +19,7 @@ void hl_angles_to_dir(enum hl_angles system, double h_rad, double v_rad, double 
 /*
  * Axes of a lamp or camera mounted with yaw (about the vehicle's z axis, positive to the left,
  * ISO 8855) then pitch (positive up), in the vehicle frame: x (right seen from behind), y (up,
- * tilted back by the pitch), z (optical axis). The lamp pose of render/camera.h and the ECU's
+ * tilted back by the pitch), z (optical axis). The lamp pose of world/camera.h and the ECU's
  * mounts (ecu/parallax.h) both use it.
  */
 void hl_mount_basis(double yaw_deg, double pitch_deg, double ret_x[3], double ret_y[3],

@@ -8,7 +8,7 @@
 
 #include <jansson.h>
 
-#include "lamp/json_check.h"
+#include "base/json_check.h"
 
 int hl_preset_new(int n_sources, struct hl_preset **ret)
 {

@@ -2,7 +2,7 @@
 /*
  * Presets: the ECU's raw 6-bit dimming values for both lamps, as JSON
  * {"left": [v1, ..., vK], "right": [...]} with integers 0..63 (docs/design.md §1: i_k = v_k / 63).
- * Read with jansson and checked by lamp/json_check.h: an error names the line and column and
+ * Read with jansson and checked by base/json_check.h: an error names the line and column and
  * leads its message with the key path ("left[3]: ...").
  */
 #ifndef HL_TOOLS_PRESET_H

@@ -15,7 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "render/camera.h"
+#include "world/camera.h"
 #include "lamp/lid.h"
 
 #define HL_FRAME_EXR_MAX_META 16

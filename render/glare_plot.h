@@ -20,8 +20,8 @@
 
 #include <stdint.h>
 
-#include "render/glare.h"
-#include "render/scenario.h"
+#include "verdict/glare.h"
+#include "world/scenario.h"
 
 /* The image's size in pixels for n road users. */
 #define HL_GLARE_PLOT_W 1000

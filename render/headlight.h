@@ -26,7 +26,7 @@
 #ifndef HL_RENDER_HEADLIGHT_H
 #define HL_RENDER_HEADLIGHT_H
 
-#include "render/camera.h"
+#include "world/camera.h"
 #include "lamp/lid.h"
 #include "render/scene.h"
 

@@ -23,7 +23,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "render/camera.h"
+#include "world/camera.h"
 #include "render/scene.h"
 
 #define HL_OVERLAY_MAX_ISO 16

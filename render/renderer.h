@@ -30,7 +30,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "render/camera.h"
+#include "world/camera.h"
 #include "render/egl.h"
 #include "lamp/lid.h"
 #include "render/scene.h"

@@ -20,7 +20,7 @@
 
 #include <stdint.h>
 
-#include "render/camera.h"
+#include "world/camera.h"
 
 enum hl_scene_kind {
 	HL_SCENE_SPHERE,

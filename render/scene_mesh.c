@@ -12,7 +12,7 @@
 /*
  * Where the paint of the built-in scenes changes comes from render/scene_layout.h (shared with
  * render/scene.c). Only the edges come from there; what lies between two edges is asked of
- * hl_scene_cast, and tests/unit/test_scene_mesh.c casts rays through both.
+ * hl_scene_cast, and tests/unit/render/test_scene_mesh.c casts rays through both.
  */
 #include "render/scene_layout.h"
 

@@ -9,7 +9,7 @@
 #ifndef HL_RENDER_VERDICT_PLOT_H
 #define HL_RENDER_VERDICT_PLOT_H
 
-#include "lamp/verdict.h"
+#include "verdict/verdict.h"
 
 /*
  * dense: the distribution on grid (cd) as mounted; results: reg->n_requirements results of

@@ -11,7 +11,7 @@
  * flight.
  *
  * The helpers are created with the caller's scheduling policy and priority (the render thread's
- * SCHED_FIFO in hdlampd, daemon/sched.h) and named hl-render-1, hl-render-2, ...
+ * SCHED_FIFO in hdlampd, base/sched.h) and named hl-render-1, hl-render-2, ...
  *
  * Thread-safety: hl_workers_run() from one thread at a time (the render thread); fn runs on the
  * caller and the helpers at once and must only write what index i owns.

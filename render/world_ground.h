@@ -25,8 +25,8 @@
 
 #include <stdbool.h>
 
-#include "render/scenario.h"
-#include "render/scenario_geom.h"
+#include "world/scenario.h"
+#include "world/scenario_geom.h"
 #include "render/scene.h"
 
 #define HL_GROUND_RUN_PX 32 /* pixels of a row that share one choice of the road's parts */

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "render/pixel.h"
-#include "render/scenario_geom.h"
+#include "world/scenario_geom.h"
 #include "render/world_ground.h"
 #include "render/scene_layout.h"
 

@@ -30,10 +30,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "render/camera.h"
-#include "render/scenario.h"
+#include "world/camera.h"
+#include "world/scenario.h"
 #include "render/scene.h"
-#include "render/world.h"
+#include "world/world.h"
 #include "render/world_ground.h" /* HL_WORLD_GROUND_HALF_M */
 
 #define HL_WORLD_POST_RANGE_M 600.0 /* posts farther along the road than this are not drawn */

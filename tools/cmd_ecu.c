@@ -17,7 +17,7 @@
 #include "ecu/beams.h"
 #include "ecu/lighting.h"
 #include "lamp/model.h"
-#include "lamp/share_dir.h"
+#include "base/share_dir.h"
 #include "tools/commands.h"
 #include "tools/ecu_bus.h"
 #include "tools/json_out.h"

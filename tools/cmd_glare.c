@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* hdlamp glare: the light at the road users' eyes in a scenario and its limit (render/glare.h). */
+/* hdlamp glare: the light at the road users' eyes in a scenario and its limit (verdict/glare.h). */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -9,7 +9,7 @@
 
 #include "lamp/combine.h"
 #include "lamp/preset.h"
-#include "render/glare.h"
+#include "verdict/glare.h"
 #include "render/glare_plot.h"
 #include "tools/commands.h"
 #include "tools/json_out.h"

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "lamp/preset.h"
-#include "lamp/verdict.h"
+#include "verdict/verdict.h"
 #include "render/verdict_plot.h"
 #include "tools/commands.h"
 #include "tools/json_out.h"

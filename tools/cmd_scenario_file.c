@@ -2,7 +2,7 @@
 /*
  * hdlamp scenario validate / builtin: scenario files (docs/scenarios.md). validate checks files
  * and names each fault as FILE:LINE:COL: KEY: MESSAGE; builtin lists and writes the shipped
- * scenarios, read from the installed directory (render/scenario.h: hl_scenario_default_dir()).
+ * scenarios, read from the installed directory (world/scenario.h: hl_scenario_default_dir()).
  */
 #include <dirent.h>
 #include <errno.h>
@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/scenario.h"
-#include "render/scenario_geom.h"
+#include "world/scenario.h"
+#include "world/scenario_geom.h"
 #include "tools/commands.h"
 
 static void usage_validate(FILE *f)

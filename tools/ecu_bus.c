@@ -22,6 +22,7 @@
 
 #include "can/socket.h"
 #include "tools/json_out.h"
+#include "base/clock.h"
 
 #define PERIOD_NS 20000000LL /* the dimming cycle, 50 Hz */
 
@@ -40,14 +41,6 @@ struct counters {
 	uint64_t rx_frames, socket_losses; /* the socket closed by a failed read or send */
 	int64_t late_max_ns; /* how far after its deadline a cycle was computed */
 };
-
-static int64_t mono_ns(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
 
 static int64_t real_ns(void)
 {
@@ -140,7 +133,7 @@ static void socket_lost(struct ecu_run *r, int rc, const char *what)
 	r->c.socket_losses++;
 	fprintf(stderr, "hdlamp ecu: can: '%s': %s: %s, reopening\n", r->o->iface, what,
 		strerror(-rc));
-	r->retry_ns = mono_ns() + (int64_t)hl_can_socket_retry_ms(r->s) * 1000000;
+	r->retry_ns = hl_clock_monotonic_ns() + (int64_t)hl_can_socket_retry_ms(r->s) * 1000000;
 }
 
 /* Sends one cycle's frames; a frame that cannot go is counted, never retried. */
@@ -172,7 +165,7 @@ static void send_cycle(struct ecu_run *r, const struct out_cycle *oc)
 static void receive(struct ecu_run *r)
 {
 	struct hl_can_rx f;
-	const int64_t mono_minus_real = mono_ns() - real_ns();
+	const int64_t mono_minus_real = hl_clock_monotonic_ns() - real_ns();
 	int rc;
 
 	while ((rc = hl_can_socket_read(r->s, &f)) == 1) {
@@ -215,7 +208,7 @@ static int compute_cycle(struct ecu_run *r, int64_t t_deadline)
 {
 	struct hl_ecu_status st;
 	struct out_cycle *oc;
-	const int64_t now = mono_ns();
+	const int64_t now = hl_clock_monotonic_ns();
 
 	hl_ecu_step(r->e, now, &st);
 	if (now - t_deadline > r->c.late_max_ns)
@@ -310,7 +303,7 @@ static int run_loop(struct ecu_run *r, int64_t first)
 			if (read(r->tfd, &exp, sizeof(exp)) < 0 && errno != EAGAIN)
 				return -errno;
 		}
-		now = mono_ns();
+		now = hl_clock_monotonic_ns();
 		if (r->retry_ns && now >= r->retry_ns) {
 			r->retry_ns = 0;
 			if (hl_can_socket_open(r->s) < 0)
@@ -330,7 +323,7 @@ static int run_loop(struct ecu_run *r, int64_t first)
 				r->c.skipped_deadlines++;
 			}
 		}
-		send_due(r, mono_ns());
+		send_due(r, hl_clock_monotonic_ns());
 		if (r->o->cycles && r->c.cycles >= (uint64_t)r->o->cycles && r->q_len == 0)
 			return 0;
 	}
@@ -414,7 +407,7 @@ int hl_ecu_bus_run(const struct hl_ecu_bus_opts *o, const struct hl_ecu_config *
 
 	if (rc < 0)
 		goto out;
-	now = mono_ns();
+	now = hl_clock_monotonic_ns();
 	first = now + PERIOD_NS;
 	printf("{\"event\":\"start\",\"t_ns\":%" PRId64 ",\"first_deadline_ns\":%" PRId64
 	       ",\"iface\":\"%s\",\"sources\":[%d,%d],"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "tools/json_out.h"
 
-#include "lamp/json_write.h"
+#include "base/json_write.h"
 
 void hl_tool_json_num(FILE *f, double x)
 {

@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/scenario.h"
-#include "render/scenario_geom.h"
+#include "world/scenario.h"
+#include "world/scenario_geom.h"
 
 static void check_finite(const double *v, int n)
 {

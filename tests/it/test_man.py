@@ -1,6 +1,6 @@
 """The man pages know what the binaries know: every option of `hdlampd --help`, of `hdlamp --help`
 and of each `hdlamp COMMAND [SUBCOMMAND] --help`, and every key `hdlampd --print-config` prints
-(daemon/config.c's table), is documented in docs/man/*.scd — each option in the block of its own
+(daemon/core/config.c's table), is documented in docs/man/*.scd — each option in the block of its own
 command, each key in its own section — and in the pages built into $HL_BUILD_DIR/docs/man/."""
 import os
 import re

@@ -27,7 +27,7 @@ SCENARIOS = {
     "curve250": "iihs-approach-curve-250m-left.json",
 }
 
-# The default driver's camera (docs/scenarios.md) and car body (render/scenario.c).
+# The default driver's camera (docs/scenarios.md) and car body (world/scenario.c).
 CAM_POS = np.array([-1.8, 0.37, 1.2])
 CAM_DIR = np.array([1.0, 0.0, -0.03])
 FOV_Y_DEG = 36.0
@@ -101,7 +101,7 @@ def ego_and_car(name, t):
 
 
 def project(p):
-    """Ego-frame point to pixel (x, y), as render/camera.c."""
+    """Ego-frame point to pixel (x, y), as world/camera.c."""
     f = CAM_DIR / np.linalg.norm(CAM_DIR)
     r = np.cross(f, [0.0, 0.0, 1.0])
     r /= np.linalg.norm(r)

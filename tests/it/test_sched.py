@@ -1,4 +1,4 @@
-"""sched.realtime_priority (daemon/sched.c): SCHED_FIFO for the CAN thread, the render thread
+"""sched.realtime_priority (base/sched.c): SCHED_FIFO for the CAN thread, the render thread
 and its helpers, one step below for the frame stream thread; the main and HTTP threads stay at
 SCHED_OTHER. A refusal is a warning naming the reason, and the daemon runs on."""
 import json

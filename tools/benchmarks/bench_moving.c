@@ -27,14 +27,14 @@
 
 #include <GLES3/gl31.h>
 
-#include "lamp/json_check.h"
+#include "base/json_check.h"
 #include "lamp/model.h"
 #include "render/egl.h"
 #include "render/gbuffer_diff.h"
 #include "render/renderer.h"
-#include "render/scenario.h"
+#include "world/scenario.h"
 #include "render/scene.h"
-#include "render/world.h"
+#include "world/world.h"
 #include "render/world_scene.h"
 #include "render/view.h"
 #include "tools/benchmarks/bench_stats.h"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * hdlamp-bench-verdict: what the live verdicts cost the render thread per frame, as one JSON
- * object: every shipped regulation set (or those given) planned by daemon/verdicts.c exactly as
+ * object: every shipped regulation set (or those given) planned by daemon/core/verdicts.c exactly as
  * hdlampd plans them (the HD84 pair at its default mounted poses, right-hand traffic), then
  * evaluated on the pair's combined distributions, alternating the low and high presets as an
  * ECU would switch beams: per set, all sets together, the road KPIs, and the whole per-frame
@@ -14,10 +14,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/verdicts.h"
+#include "daemon/core/verdicts.h"
 #include "lamp/combine.h"
 #include "lamp/model.h"
-#include "lamp/regulation.h"
+#include "verdict/regulation.h"
 #include "tools/benchmarks/bench_stats.h"
 
 #define TARGET_US 200.0 /* all configured sets on both lamps, per frame */
@@ -103,7 +103,7 @@ static void usage(FILE *f)
 	fprintf(f,
 		"usage: hdlamp-bench-verdict [--runs N] [--regulations DIR] [--sets ID,ID,...]\n"
 		"                            [--out FILE.json]\n"
-		"Times the live verdicts of hdlampd (daemon/verdicts.c) per frame on the HD84 pair:\n"
+		"Times the live verdicts of hdlampd (daemon/core/verdicts.c) per frame on the HD84 pair:\n"
 		"each set, all sets, the road KPIs and the whole check, alternating the low and high\n"
 		"beams. Default: every set of the regulations directory (the shipped ones).\n"
 		"Prints one JSON object (or writes it to --out). Exit 0, 1 on a failure, 2 on a\n"

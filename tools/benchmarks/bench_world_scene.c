@@ -10,8 +10,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "render/scenario.h"
-#include "render/world.h"
+#include "world/scenario.h"
+#include "world/world.h"
 #include "render/world_scene.h"
 #include "tools/benchmarks/bench_stats.h"
 

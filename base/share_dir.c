@@ -1,0 +1,25 @@
+/* SPDX-License-Identifier: MIT */
+#include "base/share_dir.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+int hl_share_dir(const char *name, char *buf, size_t size)
+{
+	char exe[4096];
+	const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+	char *slash;
+
+	if (n < 0)
+		return -errno;
+	exe[n] = '\0';
+	slash = strrchr(exe, '/');
+	if (!slash)
+		return -ENOENT;
+	*slash = '\0'; /* the executable's directory */
+	if ((size_t)snprintf(buf, size, "%s/../share/hdlamp/%s", exe, name) >= size)
+		return -ENAMETOOLONG;
+	return 0;
+}

@@ -1,0 +1,153 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * A scenario (docs/scenarios.md): a road of straight and arc segments with lanes and posts, the
+ * ego vehicle's path, speed, lamps and camera, other road users with paths, bodies, lamps and
+ * eye points, and a duration. Read from JSON with jansson and checked strictly: an unknown key,
+ * a wrong type, a value out of range, waypoints not strictly increasing in time or a road that
+ * does not connect is refused with the file, line, column and key path.
+ *
+ * Frames (docs/design.md §4): world x, y horizontal and z up (metres), the road starting at
+ * road.start heading road.start.heading_deg (0: along +x); a vehicle's or road user's own frame
+ * is ISO 8855 (x forward, y left, z up) with its origin on the ground below the centre of its
+ * front face. Headings in radians here, degrees in files. Road coordinates: s along the road's
+ * centre line (m), lateral offset d positive to the left looking toward increasing s. Lanes are
+ * numbered 1.. from the right edge; the ego drives toward increasing s (right-hand traffic).
+ *
+ * The geometry of a scenario at a time is in world/scenario_geom.h.
+ *
+ * Thread-safety: a scenario is built by one thread and read-only afterwards.
+ */
+#ifndef HL_WORLD_SCENARIO_H
+#define HL_WORLD_SCENARIO_H
+
+#include <stddef.h>
+
+#include "world/camera.h"
+#include "base/json_check.h"
+
+#define HL_SCN_MAX_SEGMENTS 64
+#define HL_SCN_MAX_ACTORS 16
+#define HL_SCN_MAX_POINTS 64 /* speed profile points, waypoints */
+#define HL_SCN_MAX_LAMPS 8 /* a road user's emitters */
+#define HL_SCN_ID_MAX 48
+#define HL_SCN_TEXT_MAX 256
+
+enum hl_seg_kind { HL_SEG_STRAIGHT, HL_SEG_ARC };
+
+struct hl_road_segment {
+	enum hl_seg_kind kind;
+	double length_m;
+	double radius_m; /* arc */
+	int turn; /* arc: +1 left (counter-clockwise seen from above), -1 right */
+	/* derived: where it starts */
+	double s0_m, x0_m, y0_m, heading0_rad;
+	int line; /* where it is in the file */
+};
+
+enum hl_marking { HL_MARK_NONE, HL_MARK_SOLID, HL_MARK_DASHED };
+
+struct hl_road {
+	double x0_m, y0_m, heading0_rad; /* where s = 0 is, and the heading there */
+	int n_segments;
+	struct hl_road_segment seg[HL_SCN_MAX_SEGMENTS];
+	double length_m; /* the sum of the segments */
+	int lanes;
+	double lane_width_m;
+	enum hl_marking edge, separator; /* edge lines; lines between lanes */
+	double edge_line_width_m, separator_line_width_m;
+	double dash_m, gap_m; /* dashed lines */
+	double post_spacing_m; /* 0: no posts */
+	double post_offset_m; /* beyond the road edge */
+	double post_height_m;
+};
+
+/* A speed profile: piecewise linear in time, held before the first and after the last point. */
+struct hl_speed_profile {
+	int n; /* >= 1; a constant speed is one point */
+	double t_s[HL_SCN_MAX_POINTS];
+	double v_mps[HL_SCN_MAX_POINTS];
+	double dist_m[HL_SCN_MAX_POINTS]; /* derived: distance from t_s[0] to t_s[i] */
+};
+
+struct hl_waypoint {
+	double t_s, x_m, y_m;
+	double heading_rad; /* derived: of the leg that ends here (the first: of the first move) */
+};
+
+enum hl_path_kind { HL_PATH_LANE, HL_PATH_WAYPOINTS };
+
+struct hl_path {
+	enum hl_path_kind kind;
+	/* lane: along the road, toward increasing s (-1: decreasing, oncoming) */
+	int lane;
+	double offset_m; /* extra lateral offset from the lane centre, positive left of the road */
+	double start_s_m; /* s at scenario time 0 (of the vehicle's front) */
+	int direction;
+	struct hl_speed_profile speed;
+	/* waypoints: world x, y at strictly increasing times, linear between, held at the ends */
+	int n_waypoints;
+	struct hl_waypoint wp[HL_SCN_MAX_POINTS];
+};
+
+enum hl_actor_kind { HL_ACTOR_CAR, HL_ACTOR_PEDESTRIAN, HL_ACTOR_CYCLIST };
+enum hl_actor_role { HL_ROLE_ONCOMING, HL_ROLE_PRECEDING, HL_ROLE_CROSSING, HL_ROLE_ROADSIDE };
+enum hl_emitter_kind { HL_EMITTER_HEADLAMP, HL_EMITTER_TAIL };
+
+/* A road user's lamp seen as a point emitter: a headlamp shines forward, a tail lamp back. */
+struct hl_emitter {
+	enum hl_emitter_kind kind;
+	double pos_m[3]; /* the road user's frame */
+	double intensity_cd; /* toward the viewer, uniform over the half space it faces */
+	double rgb[3]; /* linear colour, max component 1 */
+};
+
+struct hl_actor {
+	char id[HL_SCN_ID_MAX];
+	enum hl_actor_kind kind;
+	enum hl_actor_role role;
+	struct hl_path path;
+	double size_m[3]; /* body box: length (behind the origin), width, height */
+	double reflectance;
+	int n_lamps;
+	struct hl_emitter lamp[HL_SCN_MAX_LAMPS];
+	double eye_m[3]; /* the driver's (a pedestrian's, a cyclist's) eye, its own frame */
+	int line;
+};
+
+struct hl_ego {
+	struct hl_path path; /* a lane path toward increasing s */
+	struct hl_lamp_pose lamp[2]; /* left, right; vehicle frame */
+	struct hl_camera camera; /* the driver's camera, vehicle frame (width/height 0) */
+};
+
+struct hl_scenario {
+	char title[HL_SCN_TEXT_MAX];
+	double duration_s;
+	struct hl_road road;
+	struct hl_ego ego;
+	int n_actors;
+	struct hl_actor actor[HL_SCN_MAX_ACTORS];
+};
+
+/*
+ * Reads and checks one file. 0, -errno (cannot open), -EBADMSG (malformed JSON or a fault the
+ * error names), -ENOMEM. *ret is the caller's, freed with hl_scenario_free(). err (may be
+ * NULL) says where: file, line, column, key path, what was expected (hl_json_error_format()
+ * writes it as "FILE:LINE:COL: KEY: MESSAGE").
+ */
+int hl_scenario_read(const char *path, struct hl_scenario **ret, struct hl_json_error *err);
+/* The same from text; name stands for the file in the error. */
+int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **ret,
+		      struct hl_json_error *err);
+void hl_scenario_free(struct hl_scenario *sc);
+
+/*
+ * The shipped scenarios' directory: hl_share_dir("scenarios") (base/share_dir.h), e.g.
+ * /usr/bin/hdlamp -> /usr/share/hdlamp/scenarios. 0 or -errno.
+ */
+int hl_scenario_default_dir(char *buf, size_t size);
+
+const char *hl_actor_kind_name(enum hl_actor_kind kind);
+const char *hl_actor_role_name(enum hl_actor_role role);
+
+#endif

@@ -1,0 +1,192 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The geometry of a scenario (world/scenario.h, docs/scenarios.md): the road's centre line as
+ * a function of the distance s along it, lanes and posts, and where the ego vehicle, its lamps
+ * and camera, each road user and its eye are at scenario time t. Exact closed forms in double
+ * precision: arcs by their chord, a piecewise-linear speed integrated to a piecewise-quadratic
+ * distance.
+ *
+ * Beyond its ends the road runs on straight: before s = 0 back along the start heading, after
+ * its length along the end heading.
+ *
+ * None of the per-frame calls allocates; a road laid out by hl_road_layout() (the parser does
+ * it) is needed. Thread-safety: pure functions of read-only data; any thread.
+ */
+#ifndef HL_WORLD_SCENARIO_GEOM_H
+#define HL_WORLD_SCENARIO_GEOM_H
+
+#include <math.h>
+#include <stdbool.h>
+
+#include "world/camera.h"
+#include "world/scenario.h"
+
+/* A position on the ground and a heading (radians, counter-clockwise from world +x). */
+struct hl_pose2 {
+	double x_m, y_m;
+	double heading_rad;
+};
+
+/* A body (the ego vehicle, a road user) at a time: its frame's origin and heading. */
+struct hl_body_pose {
+	double pos_m[3]; /* world; z 0 */
+	double heading_rad; /* the body's +x */
+	double s_m; /* road s of the origin on a lane path; NAN on waypoints */
+	double speed_mps;
+};
+
+/* Derives each segment's start (s, position, heading) and the road's length. */
+void hl_road_layout(struct hl_road *road);
+/*
+ * Derives a speed profile's distances, and a waypoint path's headings: each waypoint's is that
+ * of the leg ending there (a standing leg keeps the one before); before the first move,
+ * heading_rad, or with NAN the first move's heading (0 for a path that never moves).
+ */
+void hl_speed_layout(struct hl_speed_profile *sp);
+void hl_waypoints_layout(struct hl_path *path, double heading_rad);
+
+/* The centre line at s. */
+void hl_road_centre(const struct hl_road *road, double s_m, struct hl_pose2 *ret);
+/* The ground point at s, d metres to the left of the centre line (z = 0). */
+void hl_road_point(const struct hl_road *road, double s_m, double d_m, double ret[3]);
+/*
+ * The inverse of hl_road_point(): the road coordinates (s, d) of the ground point (x, y) (world,
+ * metres), exactly: the foot of the perpendicular on the nearest part of the centre line (a
+ * segment, or the straight run-on before s = 0 or after the road's end). An arc's points are
+ * measured by the angle about its centre (arcs up to a full turn). Allocates nothing.
+ */
+void hl_road_project(const struct hl_road *road, double x_m, double y_m, double *ret_s_m,
+		     double *ret_d_m);
+
+/*
+ * The same in two steps over a table made once per road, for many points (a ray cast frame):
+ * the lateral offset d and the part of the road nearest (no atan2), then s only where it is
+ * needed. The parts are the run-on before s = 0, the one after the end, and the segments.
+ */
+struct hl_road_proj_part {
+	bool arc;
+	int turn; /* arc: +1 left, -1 right */
+	double s0_m, lo_m, hi_m; /* s = s0 + u, u in [lo, hi] along the part */
+	double x0_m, y0_m, c, s; /* start and cos, sin of its heading there */
+	double x1_m, y1_m; /* end (a segment) */
+	double mid_x_m, mid_y_m, half_m; /* middle and half the length (run-ons: infinite) */
+	double cx_m, cy_m, r0_m, mx, my, cos_half; /* arc: centre, radius, middle's direction */
+};
+
+struct hl_road_proj {
+	int n;
+	struct hl_road_proj_part part[HL_SCN_MAX_SEGMENTS + 2];
+};
+
+void hl_road_proj_init(const struct hl_road *road, struct hl_road_proj *ret);
+/*
+ * d of (x, y) and the index of the nearest part (ties: the lower index). hint: a part to try
+ * first (e.g. the previous point's), or -1.
+ */
+int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, int hint,
+			 double *ret_d_m);
+/*
+ * The parts that can be nearest to some point of the segment (ax, ay)-(bx, by) (e.g. the
+ * ground points of a run of pixels in one image row, which lie on a line), in index order,
+ * into ret (room for p->n); returns how many (at least one). A distance is 1-Lipschitz: for a
+ * point q of the segment of length L, |D_i(q) - D_i(a)| <= |qa|, so D_i(q) >= (D_i(a) +
+ * D_i(b) - L) / 2 and D_i(q) <= (D_i(a) + D_i(b) + L) / 2; a part whose lower bound exceeds
+ * the least upper bound is never the nearest (nor tied with it).
+ */
+int hl_road_proj_candidates(const struct hl_road_proj *p, double ax, double ay, double bx,
+			    double by, int *ret);
+/* Squared distance from (x, y) to part pp and the lateral offset d (inline: per pixel). */
+static inline double hl_road_part_dist2(const struct hl_road_proj_part *pp, double x, double y,
+					double *ret_d)
+{
+	if (!pp->arc) {
+		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
+		const double u = dx * pp->c + dy * pp->s, d = -dx * pp->s + dy * pp->c;
+		const double uc = u < pp->lo_m ? pp->lo_m : u > pp->hi_m ? pp->hi_m : u;
+
+		*ret_d = d;
+		return (u - uc) * (u - uc) + d * d;
+	}
+	const double vx = x - pp->cx_m, vy = y - pp->cy_m, r = sqrt(vx * vx + vy * vy);
+
+	*ret_d = pp->turn * (pp->r0_m - r);
+	/* Within the arc's sector: the angle from its middle at most half its sweep. */
+	if (vx * pp->mx + vy * pp->my >= r * pp->cos_half)
+		return *ret_d * *ret_d;
+	/* Beyond an end: the nearer end point is the nearest point of this arc. */
+	{
+		const double a = (x - pp->x0_m) * (x - pp->x0_m) + (y - pp->y0_m) * (y - pp->y0_m);
+		const double b = (x - pp->x1_m) * (x - pp->x1_m) + (y - pp->y1_m) * (y - pp->y1_m);
+
+		return a < b ? a : b;
+	}
+}
+
+/*
+ * As hl_road_proj_lateral() among the parts cand[0 .. n_cand - 1] (index order) only: the
+ * same result for any point of the segment they were chosen for. Inline: a ray cast calls it
+ * per pixel.
+ */
+static inline int hl_road_proj_lateral_among(const struct hl_road_proj *p, const int *cand,
+					     int n_cand, double x_m, double y_m, int hint,
+					     double *ret_d_m)
+{
+	double best = INFINITY, d;
+	int k = -1;
+
+	for (int j = 0; j < n_cand; j++)
+		if (cand[j] == hint) {
+			best = hl_road_part_dist2(&p->part[hint], x_m, y_m, &d);
+			k = hint;
+			*ret_d_m = d;
+			break;
+		}
+	for (int j = 0; j < n_cand; j++) {
+		const int i = cand[j];
+		double dist2;
+
+		if (i == hint)
+			continue;
+		dist2 = hl_road_part_dist2(&p->part[i], x_m, y_m, &d);
+		if (dist2 < best || (dist2 == best && i < k)) {
+			best = dist2;
+			k = i;
+			*ret_d_m = d;
+		}
+	}
+	return k;
+}
+
+/* s of (x, y) on part (as hl_road_proj_lateral() returned it). */
+double hl_road_proj_s(const struct hl_road_proj *p, int part, double x_m, double y_m);
+/* Lateral offset of lane (1.. from the right edge)'s centre line from the road's centre. */
+double hl_road_lane_offset(const struct hl_road *road, int lane);
+/* Half the road's width: its edges are at d = ±this. */
+double hl_road_half_width(const struct hl_road *road);
+/* Posts per edge (at s = spacing, 2 spacing, ... up to the road's length); 0 without posts. */
+int hl_road_post_count(const struct hl_road *road);
+/* The foot of post k (0-based) on side +1 (left edge) or -1 (right edge). */
+void hl_road_post(const struct hl_road *road, int k, int side, double ret[3]);
+
+/* Distance covered from time 0 to t (negative before 0) under the profile; speed at t. */
+double hl_speed_distance(const struct hl_speed_profile *sp, double t_s);
+double hl_speed_at(const struct hl_speed_profile *sp, double t_s);
+
+/* Where a path puts its body at t on this road. */
+void hl_path_pose(const struct hl_road *road, const struct hl_path *path, double t_s,
+		  struct hl_body_pose *ret);
+/* A point given in a body's frame (x forward, y left, z up) in world coordinates. */
+void hl_body_to_world(const struct hl_body_pose *pose, const double local_m[3], double ret[3]);
+
+void hl_scenario_ego_pose(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret);
+/* The ego lamps' poses in the world frame (position world, yaw from world +x). */
+void hl_scenario_ego_lamps(const struct hl_scenario *sc, double t_s, struct hl_lamp_pose ret[2]);
+/* The driver's camera in the world frame at width x height. */
+void hl_scenario_ego_camera(const struct hl_scenario *sc, double t_s, int width, int height,
+			    struct hl_camera *ret);
+/* Road user i (0-based, < n_actors) at t, and its eye point in the world. */
+void hl_scenario_actor_pose(const struct hl_scenario *sc, int i, double t_s,
+			    struct hl_body_pose *ret);
+void hl_scenario_actor_eye(const struct hl_scenario *sc, int i, double t_s, double ret[3]);
+
+#endif

@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * A moving scene at one instant (docs/scenarios.md): where the ego vehicle and every road user
+ * of a scenario are, and whether the road users' lamps are lit. The scenario clock
+ * (hl_world_at) fills it from the scenario's paths; an external driving simulator can fill it
+ * instead (hdlampd's pose input). The renderer, the glare at the road users' eyes and the
+ * daemon's outputs all read this one state, so what is shown and what is judged are the same
+ * instant.
+ *
+ * Thread-safety: plain data; hl_world_at() is a pure function of read-only data (any thread)
+ * and allocates nothing.
+ */
+#ifndef HL_WORLD_WORLD_H
+#define HL_WORLD_WORLD_H
+
+#include <stdint.h>
+
+#include "world/scenario.h"
+#include "world/scenario_geom.h"
+
+struct hl_world_state {
+	double t_s; /* scenario time */
+	struct hl_body_pose ego;
+	int n_actors; /* the scenario's road users, in its order */
+	struct hl_body_pose actor[HL_SCN_MAX_ACTORS];
+	uint32_t lamps_on; /* bit i: road user i's lamps are lit */
+};
+
+/* The scenario's state at time t: every pose from its paths, every road user's lamps lit. */
+void hl_world_at(const struct hl_scenario *sc, double t_s, struct hl_world_state *ret);
+
+/* The ego lamps' poses in the world frame for an ego pose (as hl_scenario_ego_lamps()). */
+void hl_world_ego_lamps(const struct hl_scenario *sc, const struct hl_body_pose *ego,
+			struct hl_lamp_pose ret[2]);
+/* Road user i's eye point in the world for its pose (as hl_scenario_actor_eye()). */
+void hl_world_actor_eye(const struct hl_scenario *sc, int i, const struct hl_body_pose *pose,
+			double ret[3]);
+
+#endif
