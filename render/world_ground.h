@@ -26,7 +26,7 @@
 #include <stdbool.h>
 
 #include "world/scenario.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 #include "render/scene.h"
 
 #define HL_GROUND_RUN_PX 32 /* pixels of a row that share one choice of the road's parts */

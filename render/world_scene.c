@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "render/pixel.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 #include "render/world_ground.h"
 #include "render/scene_layout.h"
 

@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "world/scenario.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 #include "tools/commands.h"
 
 static void usage_validate(FILE *f)

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "lamp/angles.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 #include "world/world.h"
 
 #define DEG (180.0 / M_PI)

@@ -12,7 +12,7 @@
 
 #include "base/json_check.h"
 #include "base/share_dir.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 
 #define DEG (M_PI / 180.0)
 #define FORMAT_VERSION 1

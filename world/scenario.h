@@ -13,7 +13,7 @@
  * centre line (m), lateral offset d positive to the left looking toward increasing s. Lanes are
  * numbered 1.. from the right edge; the ego drives toward increasing s (right-hand traffic).
  *
- * The geometry of a scenario at a time is in world/scenario_geom.h.
+ * The road and the paths along it are world/road.h's; where everything is at a time, world/world.h's.
  *
  * Thread-safety: a scenario is built by one thread and read-only afterwards.
  */
@@ -23,71 +23,13 @@
 #include <stddef.h>
 
 #include "world/camera.h"
+#include "world/road.h"
 #include "base/json_check.h"
 
-#define HL_SCN_MAX_SEGMENTS 64
 #define HL_SCN_MAX_ACTORS 16
-#define HL_SCN_MAX_POINTS 64 /* speed profile points, waypoints */
 #define HL_SCN_MAX_LAMPS 8 /* a road user's emitters */
 #define HL_SCN_ID_MAX 48
 #define HL_SCN_TEXT_MAX 256
-
-enum hl_seg_kind { HL_SEG_STRAIGHT, HL_SEG_ARC };
-
-struct hl_road_segment {
-	enum hl_seg_kind kind;
-	double length_m;
-	double radius_m; /* arc */
-	int turn; /* arc: +1 left (counter-clockwise seen from above), -1 right */
-	/* derived: where it starts */
-	double s0_m, x0_m, y0_m, heading0_rad;
-	int line; /* where it is in the file */
-};
-
-enum hl_marking { HL_MARK_NONE, HL_MARK_SOLID, HL_MARK_DASHED };
-
-struct hl_road {
-	double x0_m, y0_m, heading0_rad; /* where s = 0 is, and the heading there */
-	int n_segments;
-	struct hl_road_segment seg[HL_SCN_MAX_SEGMENTS];
-	double length_m; /* the sum of the segments */
-	int lanes;
-	double lane_width_m;
-	enum hl_marking edge, separator; /* edge lines; lines between lanes */
-	double edge_line_width_m, separator_line_width_m;
-	double dash_m, gap_m; /* dashed lines */
-	double post_spacing_m; /* 0: no posts */
-	double post_offset_m; /* beyond the road edge */
-	double post_height_m;
-};
-
-/* A speed profile: piecewise linear in time, held before the first and after the last point. */
-struct hl_speed_profile {
-	int n; /* >= 1; a constant speed is one point */
-	double t_s[HL_SCN_MAX_POINTS];
-	double v_mps[HL_SCN_MAX_POINTS];
-	double dist_m[HL_SCN_MAX_POINTS]; /* derived: distance from t_s[0] to t_s[i] */
-};
-
-struct hl_waypoint {
-	double t_s, x_m, y_m;
-	double heading_rad; /* derived: of the leg that ends here (the first: of the first move) */
-};
-
-enum hl_path_kind { HL_PATH_LANE, HL_PATH_WAYPOINTS };
-
-struct hl_path {
-	enum hl_path_kind kind;
-	/* lane: along the road, toward increasing s (-1: decreasing, oncoming) */
-	int lane;
-	double offset_m; /* extra lateral offset from the lane centre, positive left of the road */
-	double start_s_m; /* s at scenario time 0 (of the vehicle's front) */
-	int direction;
-	struct hl_speed_profile speed;
-	/* waypoints: world x, y at strictly increasing times, linear between, held at the ends */
-	int n_waypoints;
-	struct hl_waypoint wp[HL_SCN_MAX_POINTS];
-};
 
 enum hl_actor_kind { HL_ACTOR_CAR, HL_ACTOR_PEDESTRIAN, HL_ACTOR_CYCLIST };
 enum hl_actor_role { HL_ROLE_ONCOMING, HL_ROLE_PRECEDING, HL_ROLE_CROSSING, HL_ROLE_ROADSIDE };

@@ -24,9 +24,59 @@ void hl_world_actor_eye(const struct hl_scenario *sc, int i, const struct hl_bod
 void hl_world_at(const struct hl_scenario *sc, double t_s, struct hl_world_state *ret)
 {
 	ret->t_s = t_s;
-	hl_scenario_ego_pose(sc, t_s, &ret->ego);
+	hl_world_ego_pose_at(sc, t_s, &ret->ego);
 	ret->n_actors = sc->n_actors;
 	for (int i = 0; i < sc->n_actors; i++)
-		hl_scenario_actor_pose(sc, i, t_s, &ret->actor[i]);
+		hl_world_actor_pose_at(sc, i, t_s, &ret->actor[i]);
 	ret->lamps_on = sc->n_actors >= 32 ? UINT32_MAX : (1u << sc->n_actors) - 1u;
+}
+
+void hl_world_ego_pose_at(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret)
+{
+	hl_path_pose(&sc->road, &sc->ego.path, t_s, ret);
+}
+
+void hl_world_ego_lamps_at(const struct hl_scenario *sc, double t_s, struct hl_lamp_pose ret[2])
+{
+	struct hl_body_pose pose;
+
+	hl_world_ego_pose_at(sc, t_s, &pose);
+	hl_world_ego_lamps(sc, &pose, ret);
+}
+
+void hl_world_ego_camera_at(const struct hl_scenario *sc, double t_s, int width, int height,
+			    struct hl_camera *ret)
+{
+	const struct hl_camera *cam = &sc->ego.camera;
+	const double c_h[3] = { 0.0, 0.0, 0.0 };
+	struct hl_body_pose pose;
+	double o[3], d[3];
+
+	hl_world_ego_pose_at(sc, t_s, &pose);
+	*ret = *cam;
+	ret->width = width;
+	ret->height = height;
+	hl_body_to_world(&pose, cam->pos_m, ret->pos_m);
+	/* Directions: the body's rotation only (the difference of two mapped points). */
+	hl_body_to_world(&pose, c_h, o);
+	hl_body_to_world(&pose, cam->dir, d);
+	for (int i = 0; i < 3; i++)
+		ret->dir[i] = d[i] - o[i];
+	hl_body_to_world(&pose, cam->up, d);
+	for (int i = 0; i < 3; i++)
+		ret->up[i] = d[i] - o[i];
+}
+
+void hl_world_actor_pose_at(const struct hl_scenario *sc, int i, double t_s,
+			    struct hl_body_pose *ret)
+{
+	hl_path_pose(&sc->road, &sc->actor[i].path, t_s, ret);
+}
+
+void hl_world_actor_eye_at(const struct hl_scenario *sc, int i, double t_s, double ret[3])
+{
+	struct hl_body_pose pose;
+
+	hl_world_actor_pose_at(sc, i, t_s, &pose);
+	hl_world_actor_eye(sc, i, &pose, ret);
 }

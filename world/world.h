@@ -16,7 +16,7 @@
 #include <stdint.h>
 
 #include "world/scenario.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 
 struct hl_world_state {
 	double t_s; /* scenario time */
@@ -29,11 +29,22 @@ struct hl_world_state {
 /* The scenario's state at time t: every pose from its paths, every road user's lamps lit. */
 void hl_world_at(const struct hl_scenario *sc, double t_s, struct hl_world_state *ret);
 
-/* The ego lamps' poses in the world frame for an ego pose (as hl_scenario_ego_lamps()). */
+/* The ego lamps' poses in the world frame for an ego pose (as hl_world_ego_lamps_at()). */
 void hl_world_ego_lamps(const struct hl_scenario *sc, const struct hl_body_pose *ego,
 			struct hl_lamp_pose ret[2]);
-/* Road user i's eye point in the world for its pose (as hl_scenario_actor_eye()). */
+/* Road user i's eye point in the world for its pose (as hl_world_actor_eye_at()). */
 void hl_world_actor_eye(const struct hl_scenario *sc, int i, const struct hl_body_pose *pose,
 			double ret[3]);
+
+void hl_world_ego_pose_at(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret);
+/* The ego lamps' poses in the world frame (position world, yaw from world +x). */
+void hl_world_ego_lamps_at(const struct hl_scenario *sc, double t_s, struct hl_lamp_pose ret[2]);
+/* The driver's camera in the world frame at width x height. */
+void hl_world_ego_camera_at(const struct hl_scenario *sc, double t_s, int width, int height,
+			    struct hl_camera *ret);
+/* Road user i (0-based, < n_actors) at t, and its eye point in the world. */
+void hl_world_actor_pose_at(const struct hl_scenario *sc, int i, double t_s,
+			    struct hl_body_pose *ret);
+void hl_world_actor_eye_at(const struct hl_scenario *sc, int i, double t_s, double ret[3]);
 
 #endif

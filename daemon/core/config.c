@@ -367,7 +367,8 @@ static int set_value(struct hl_config *cfg, const struct key *k, const char *val
 		}
 		return 0;
 	case SETS:
-		if (hl_cfg_parse_sets(cfg, value, what, sizeof(what)) < 0)
+		if (hl_cfg_parse_sets(value, cfg->verdict_sets, &cfg->n_verdict_sets, what,
+				      sizeof(what)) < 0)
 			return bad(err, origin, line, k, "%s", what);
 		return 0;
 	case MODES:

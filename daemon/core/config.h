@@ -13,11 +13,10 @@
 
 #include <stdbool.h>
 
+#include "daemon/core/config_syntax.h" /* HL_CONFIG_MAX_SETS, HL_CONFIG_SET_ID */
+
 #define HL_CONFIG_PATH 512
 #define HL_CONFIG_NAME 64
-#define HL_CONFIG_MAX_SETS 32 /* verdict sets: one bit each in the frame header */
-#define HL_CONFIG_SET_ID \
-	48 /* a set id's bytes with the NUL (verdict/regulation.h: HL_REG_ID_MAX) */
 #define HL_CONFIG_ROAD_LEVELS 2 /* render/road_kpi.h: HL_ROAD_KPI_LEVELS */
 #define HL_CONFIG_ROAD_WIDTHS 2 /* render/road_kpi.h: HL_ROAD_KPI_WIDTHS */
 #define HL_CONFIG_MAX_KEYS 64 /* keys in config.c's table, at most */

@@ -47,8 +47,8 @@ bool hl_cfg_valid_modes(const char *v)
 	return true;
 }
 
-/* "a, b, c" into cfg's verdict sets; what says why not. 0 or -EINVAL (cfg untouched). */
-int hl_cfg_parse_sets(struct hl_config *cfg, const char *value, char *what, size_t what_size)
+int hl_cfg_parse_sets(const char *value, char (*ret_ids)[HL_CONFIG_SET_ID], int *ret_n, char *what,
+		      size_t what_size)
 {
 	char ids[HL_CONFIG_MAX_SETS][HL_CONFIG_SET_ID];
 	const char *p = value;
@@ -96,8 +96,8 @@ int hl_cfg_parse_sets(struct hl_config *cfg, const char *value, char *what, size
 			return -EINVAL;
 		}
 	}
-	memcpy(cfg->verdict_sets, ids, sizeof(ids[0]) * n);
-	cfg->n_verdict_sets = n;
+	memcpy(ret_ids, ids, sizeof(ids[0]) * n);
+	*ret_n = n;
 	return 0;
 }
 

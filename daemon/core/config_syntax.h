@@ -9,14 +9,20 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "daemon/core/config.h"
+#define HL_CONFIG_MAX_SETS 32 /* verdict sets: one bit each in the frame header */
+#define HL_CONFIG_SET_ID \
+	48 /* a set id's bytes with the NUL (verdict/regulation.h: HL_REG_ID_MAX) */
 
 /* A set id is a file name in the regulations directory: letters, digits, '.', '_', '+', '-'. */
 bool hl_cfg_valid_set_id(const char *s, size_t n);
 /* MODE:ID+ID,... : names and ids of the set id's characters, each entry with one ':'. */
 bool hl_cfg_valid_modes(const char *v);
-/* "a, b, c" into cfg's verdict sets; what says why not. 0 or -EINVAL (cfg untouched). */
-int hl_cfg_parse_sets(struct hl_config *cfg, const char *value, char *what, size_t what_size);
+/*
+ * "a, b, c" into ret_ids (HL_CONFIG_MAX_SETS ids) and their number; what says why not. 0 or
+ * -EINVAL (ret_ids and ret_n untouched).
+ */
+int hl_cfg_parse_sets(const char *value, char (*ret_ids)[HL_CONFIG_SET_ID], int *ret_n, char *what,
+		      size_t what_size);
 /* v into dst (size bytes); -EINVAL when it does not fit. */
 int hl_cfg_copy_string(char *dst, size_t size, const char *v);
 /* choices "a|b|c" holds v as a whole word. */

@@ -18,7 +18,7 @@
 #include "base/clock.h"
 #include "base/addr.h"
 #include "base/sched.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 
 #define DEG (M_PI / 180.0)
 #define POLL_MS 100 /* longest wait for a datagram, so that stop is seen */

@@ -5,7 +5,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "world/scenario_geom.h"
+#include "world/road.h"
+#include "world/world.h"
 
 #define DEG (M_PI / 180.0)
 #define YAW_DT_S 0.005 /* half the central difference of the heading */
@@ -18,9 +19,9 @@ void hl_restbus_vehicle(const struct hl_scenario *sc, const struct hl_world_stat
 	struct hl_body_pose now, a, b;
 	double yaw, k;
 
-	hl_scenario_ego_pose(sc, w->t_s, &now);
-	hl_scenario_ego_pose(sc, w->t_s - YAW_DT_S, &a);
-	hl_scenario_ego_pose(sc, w->t_s + YAW_DT_S, &b);
+	hl_world_ego_pose_at(sc, w->t_s, &now);
+	hl_world_ego_pose_at(sc, w->t_s - YAW_DT_S, &a);
+	hl_world_ego_pose_at(sc, w->t_s + YAW_DT_S, &b);
 	yaw = remainder(b.heading_rad - a.heading_rad, 2 * M_PI) / (2 * YAW_DT_S);
 	if (now.speed_mps > STANDING_MPS) {
 		k = yaw / now.speed_mps;

@@ -10,7 +10,8 @@
 #include <string.h>
 
 #include "world/scenario.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
+#include "world/world.h"
 
 static void check_finite(const double *v, int n)
 {
@@ -35,13 +36,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			struct hl_body_pose pose;
 			double eye[3];
 
-			hl_scenario_ego_lamps(sc, t, lamps);
+			hl_world_ego_lamps_at(sc, t, lamps);
 			check_finite(lamps[0].pos_m, 3);
 			check_finite(lamps[1].pos_m, 3);
 			for (int a = 0; a < sc->n_actors; a++) {
-				hl_scenario_actor_pose(sc, a, t, &pose);
+				hl_world_actor_pose_at(sc, a, t, &pose);
 				check_finite(pose.pos_m, 3);
-				hl_scenario_actor_eye(sc, a, t, eye);
+				hl_world_actor_eye_at(sc, a, t, eye);
 				check_finite(eye, 3);
 			}
 		}

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * render/world_scene.c (and hl_road_project() of world/scenario_geom.c): road coordinates
+ * render/world_scene.c (and hl_road_project() of world/road.c): road coordinates
  * against closed forms within 1 mm; a pixel's ray meets a road user's box where the test
  * intersects it; the standing ego on the shipped straight IIHS-like scenario sees road,
  * markings and shoulder where the test computes them; lamps face the right way and hide behind
@@ -21,7 +21,7 @@
 #include "alloc_count.h"
 #include "render/gbuffer_diff.h"
 #include "world/scenario.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 #include "render/scene.h"
 #include "world/world.h"
 #include "render/world_scene.h"

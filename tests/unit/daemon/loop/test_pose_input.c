@@ -21,7 +21,7 @@
 #include <cmocka.h>
 
 #include "daemon/loop/pose_input.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 
 static const char scenario_json[] =
 	"{\"version\": 1, \"title\": \"poses\", \"duration_s\": 10,\n"

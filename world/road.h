@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The geometry of a scenario (world/scenario.h, docs/scenarios.md): the road's centre line as
- * a function of the distance s along it, lanes and posts, and where the ego vehicle, its lamps
- * and camera, each road user and its eye are at scenario time t. Exact closed forms in double
+ * The road of a scenario (world/scenario.h, docs/scenarios.md): its segments, lanes and
+ * markings, its centre line as a function of the distance s along it, lanes and posts, the
+ * projection of a point onto it, and the paths and speed profiles along it (a body's pose at
+ * time t). Where the ego vehicle, its lamps and camera and each road user are in a scenario is
+ * world/world.h's. Exact closed forms in double
  * precision: arcs by their chord, a piecewise-linear speed integrated to a piecewise-quadratic
  * distance.
  *
@@ -12,14 +14,71 @@
  * None of the per-frame calls allocates; a road laid out by hl_road_layout() (the parser does
  * it) is needed. Thread-safety: pure functions of read-only data; any thread.
  */
-#ifndef HL_WORLD_SCENARIO_GEOM_H
-#define HL_WORLD_SCENARIO_GEOM_H
+#ifndef HL_WORLD_ROAD_H
+#define HL_WORLD_ROAD_H
 
 #include <math.h>
 #include <stdbool.h>
 
-#include "world/camera.h"
-#include "world/scenario.h"
+#define HL_SCN_MAX_SEGMENTS 64
+#define HL_SCN_MAX_POINTS 64 /* speed profile points, waypoints */
+
+enum hl_seg_kind { HL_SEG_STRAIGHT, HL_SEG_ARC };
+
+struct hl_road_segment {
+	enum hl_seg_kind kind;
+	double length_m;
+	double radius_m; /* arc */
+	int turn; /* arc: +1 left (counter-clockwise seen from above), -1 right */
+	/* derived: where it starts */
+	double s0_m, x0_m, y0_m, heading0_rad;
+	int line; /* where it is in the file */
+};
+
+enum hl_marking { HL_MARK_NONE, HL_MARK_SOLID, HL_MARK_DASHED };
+
+struct hl_road {
+	double x0_m, y0_m, heading0_rad; /* where s = 0 is, and the heading there */
+	int n_segments;
+	struct hl_road_segment seg[HL_SCN_MAX_SEGMENTS];
+	double length_m; /* the sum of the segments */
+	int lanes;
+	double lane_width_m;
+	enum hl_marking edge, separator; /* edge lines; lines between lanes */
+	double edge_line_width_m, separator_line_width_m;
+	double dash_m, gap_m; /* dashed lines */
+	double post_spacing_m; /* 0: no posts */
+	double post_offset_m; /* beyond the road edge */
+	double post_height_m;
+};
+
+/* A speed profile: piecewise linear in time, held before the first and after the last point. */
+struct hl_speed_profile {
+	int n; /* >= 1; a constant speed is one point */
+	double t_s[HL_SCN_MAX_POINTS];
+	double v_mps[HL_SCN_MAX_POINTS];
+	double dist_m[HL_SCN_MAX_POINTS]; /* derived: distance from t_s[0] to t_s[i] */
+};
+
+struct hl_waypoint {
+	double t_s, x_m, y_m;
+	double heading_rad; /* derived: of the leg that ends here (the first: of the first move) */
+};
+
+enum hl_path_kind { HL_PATH_LANE, HL_PATH_WAYPOINTS };
+
+struct hl_path {
+	enum hl_path_kind kind;
+	/* lane: along the road, toward increasing s (-1: decreasing, oncoming) */
+	int lane;
+	double offset_m; /* extra lateral offset from the lane centre, positive left of the road */
+	double start_s_m; /* s at scenario time 0 (of the vehicle's front) */
+	int direction;
+	struct hl_speed_profile speed;
+	/* waypoints: world x, y at strictly increasing times, linear between, held at the ends */
+	int n_waypoints;
+	struct hl_waypoint wp[HL_SCN_MAX_POINTS];
+};
 
 /* A position on the ground and a heading (radians, counter-clockwise from world +x). */
 struct hl_pose2 {
@@ -177,16 +236,5 @@ void hl_path_pose(const struct hl_road *road, const struct hl_path *path, double
 		  struct hl_body_pose *ret);
 /* A point given in a body's frame (x forward, y left, z up) in world coordinates. */
 void hl_body_to_world(const struct hl_body_pose *pose, const double local_m[3], double ret[3]);
-
-void hl_scenario_ego_pose(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret);
-/* The ego lamps' poses in the world frame (position world, yaw from world +x). */
-void hl_scenario_ego_lamps(const struct hl_scenario *sc, double t_s, struct hl_lamp_pose ret[2]);
-/* The driver's camera in the world frame at width x height. */
-void hl_scenario_ego_camera(const struct hl_scenario *sc, double t_s, int width, int height,
-			    struct hl_camera *ret);
-/* Road user i (0-based, < n_actors) at t, and its eye point in the world. */
-void hl_scenario_actor_pose(const struct hl_scenario *sc, int i, double t_s,
-			    struct hl_body_pose *ret);
-void hl_scenario_actor_eye(const struct hl_scenario *sc, int i, double t_s, double ret[3]);
 
 #endif

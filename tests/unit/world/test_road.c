@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * world/scenario_geom.c: the road, paths and poses of a scenario against an independent
+ * world/road.c: the road, paths and poses of a scenario against an independent
  * computation written here in closed form (circle maths, the integral of a piecewise-linear
  * speed), within 1 mm; and no allocation in the per-frame calls.
  */
@@ -17,7 +17,7 @@
 
 #include "alloc_count.h"
 #include "world/scenario.h"
-#include "world/scenario_geom.h"
+#include "world/road.h"
 #include "world/world.h"
 
 #define MM 1e-3
@@ -252,12 +252,12 @@ static void oncoming_car_under_piecewise_linear_speed(void **state)
 			double eye[3];
 
 			assert_true(s >= 100.0);
-			hl_scenario_actor_pose(sc, a, t, &pose);
+			hl_world_actor_pose_at(sc, a, t, &pose);
 			near("s", t, pose.s_m, s, MM);
 			near("speed", t, pose.speed_mps, a ? 20.0 : speed_by_hand(t), 1e-9);
 			near_point("position", t, pose.pos_m, x, y, 0.0);
 			near_heading("heading", t, pose.heading_rad, phi + M_PI);
-			hl_scenario_actor_eye(sc, a, t, eye);
+			hl_world_actor_eye_at(sc, a, t, eye);
 			near_point("eye", t, eye, x - ex * cos(phi) + ey * sin(phi),
 				   y - ex * sin(phi) - ey * cos(phi), ez);
 			/* the world state of that instant: the same pose, the same eye */
@@ -302,11 +302,11 @@ static void waypoint_path(void **state)
 		struct hl_body_pose pose;
 		double eye[3];
 
-		hl_scenario_actor_pose(sc, 0, want[i].t, &pose);
+		hl_world_actor_pose_at(sc, 0, want[i].t, &pose);
 		near_point("position", want[i].t, pose.pos_m, want[i].x, want[i].y, 0.0);
 		near_heading("heading", want[i].t, pose.heading_rad, want[i].heading_deg * DEG);
 		/* a pedestrian's eye: over the middle of its 0.3 m body, 1.6 m up */
-		hl_scenario_actor_eye(sc, 0, want[i].t, eye);
+		hl_world_actor_eye_at(sc, 0, want[i].t, eye);
 		near_point("eye", want[i].t, eye, want[i].x - 0.15 * cos(want[i].heading_deg * DEG),
 			   want[i].y - 0.15 * sin(want[i].heading_deg * DEG), 1.6);
 	}
@@ -335,7 +335,7 @@ static void ego_lamps_and_camera(void **state)
 		struct hl_camera cam;
 		double ax[3], ay[3], az[3];
 
-		hl_scenario_ego_lamps(sc, t, lamps);
+		hl_world_ego_lamps_at(sc, t, lamps);
 		near_point("left lamp", t, lamps[0].pos_m, x - 0.2 * fx + 0.75 * lx,
 			   y - 0.2 * fy + 0.75 * ly, 0.7);
 		near_point("right lamp", t, lamps[1].pos_m, x - 0.2 * fx - 0.75 * lx,
@@ -351,7 +351,7 @@ static void ego_lamps_and_camera(void **state)
 		near("axis y", t, az[1], cos(-1.0 * DEG) * sin(phi + 2.0 * DEG), 1e-9);
 		near("axis z", t, az[2], sin(-1.0 * DEG), 1e-9);
 
-		hl_scenario_ego_camera(sc, t, 64, 36, &cam);
+		hl_world_ego_camera_at(sc, t, 64, 36, &cam);
 		assert_int_equal(cam.width, 64);
 		near_point("camera", t, cam.pos_m, x - 2.0 * fx + 0.4 * lx, y - 2.0 * fy + 0.4 * ly,
 			   1.25);
@@ -384,12 +384,12 @@ static void per_frame_calls_allocate_nothing(void **state)
 		struct hl_camera cam;
 		double eye[3], p[3];
 
-		hl_scenario_ego_pose(sc, t, &pose);
-		hl_scenario_ego_lamps(sc, t, lamps);
-		hl_scenario_ego_camera(sc, t, 1280, 720, &cam);
+		hl_world_ego_pose_at(sc, t, &pose);
+		hl_world_ego_lamps_at(sc, t, lamps);
+		hl_world_ego_camera_at(sc, t, 1280, 720, &cam);
 		for (int a = 0; a < sc->n_actors; a++) {
-			hl_scenario_actor_pose(sc, a, t, &pose);
-			hl_scenario_actor_eye(sc, a, t, eye);
+			hl_world_actor_pose_at(sc, a, t, &pose);
+			hl_world_actor_eye_at(sc, a, t, eye);
 		}
 		hl_road_point(&sc->road, t * 40.0, 1.0, p);
 	}

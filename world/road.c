@@ -1,11 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* Road, path and body geometry of a scenario: closed forms, no allocation. */
-#include "world/scenario_geom.h"
+#include "world/road.h"
 
 #include <math.h>
 #include <string.h>
-
-#include "world/world.h"
 
 #define DEG (M_PI / 180.0)
 
@@ -396,54 +394,4 @@ void hl_body_to_world(const struct hl_body_pose *pose, const double p[3], double
 	ret[0] = pose->pos_m[0] + p[0] * c - p[1] * s;
 	ret[1] = pose->pos_m[1] + p[0] * s + p[1] * c;
 	ret[2] = pose->pos_m[2] + p[2];
-}
-
-void hl_scenario_ego_pose(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret)
-{
-	hl_path_pose(&sc->road, &sc->ego.path, t_s, ret);
-}
-
-void hl_scenario_ego_lamps(const struct hl_scenario *sc, double t_s, struct hl_lamp_pose ret[2])
-{
-	struct hl_body_pose pose;
-
-	hl_scenario_ego_pose(sc, t_s, &pose);
-	hl_world_ego_lamps(sc, &pose, ret);
-}
-
-void hl_scenario_ego_camera(const struct hl_scenario *sc, double t_s, int width, int height,
-			    struct hl_camera *ret)
-{
-	const struct hl_camera *cam = &sc->ego.camera;
-	const double c_h[3] = { 0.0, 0.0, 0.0 };
-	struct hl_body_pose pose;
-	double o[3], d[3];
-
-	hl_scenario_ego_pose(sc, t_s, &pose);
-	*ret = *cam;
-	ret->width = width;
-	ret->height = height;
-	hl_body_to_world(&pose, cam->pos_m, ret->pos_m);
-	/* Directions: the body's rotation only (the difference of two mapped points). */
-	hl_body_to_world(&pose, c_h, o);
-	hl_body_to_world(&pose, cam->dir, d);
-	for (int i = 0; i < 3; i++)
-		ret->dir[i] = d[i] - o[i];
-	hl_body_to_world(&pose, cam->up, d);
-	for (int i = 0; i < 3; i++)
-		ret->up[i] = d[i] - o[i];
-}
-
-void hl_scenario_actor_pose(const struct hl_scenario *sc, int i, double t_s,
-			    struct hl_body_pose *ret)
-{
-	hl_path_pose(&sc->road, &sc->actor[i].path, t_s, ret);
-}
-
-void hl_scenario_actor_eye(const struct hl_scenario *sc, int i, double t_s, double ret[3])
-{
-	struct hl_body_pose pose;
-
-	hl_scenario_actor_pose(sc, i, t_s, &pose);
-	hl_world_actor_eye(sc, i, &pose, ret);
 }
