@@ -16,6 +16,7 @@
 #include "world/world.h"
 #include "base/json_write.h"
 #include "daemon/core/sched_start.h"
+#include "world/scenario_clock.h"
 
 #define MS_NS 1000000LL
 
@@ -172,13 +173,10 @@ err_free:
 static void world_at(struct hl_restbus *rb, int64_t d_ns, struct hl_world_state *w)
 {
 	int64_t rx_ns;
-	double t_s;
 
 	if (rb->cfg.pose && hl_pose_input_latest(rb->cfg.pose, w, &rx_ns))
 		return;
-	t_s = (double)(d_ns - rb->t0_ns) / 1e9;
-	t_s = t_s < 0 ? 0 : t_s > rb->cfg.sc->duration_s ? rb->cfg.sc->duration_s : t_s;
-	hl_world_at(rb->cfg.sc, t_s, w);
+	hl_world_at(rb->cfg.sc, hl_scenario_clock_at(rb->cfg.sc, rb->t0_ns, d_ns), w);
 }
 
 /* Sends frame fr of message i for the deadline (index idx, time d_ns); counts what became of it. */
