@@ -12,7 +12,7 @@
  *   P1  8-bit CRC-8/SAE-J1850 in byte 0 over the data ID (low byte, high byte) and bytes
  *       1..len-1; 4-bit counter 0..14 in the low nibble of byte 1 (15 is invalid). This is
  *       AUTOSAR profile 1's layout (CRC offset 0, counter offset 8, data ID mode "both"); the
- *       CRC uses the standard J1850 start and final XOR 0xFF as hdlamp's issue 3 fixes them
+ *       CRC uses the standard J1850 start and final XOR 0xFF, as docs/dbc.md fixes them for hdlamp
  *       (AUTOSAR profile 1 itself runs the J1850 polynomial with 0x00 / 0x00).
  *   P5  AUTOSAR profile 5: CRC-16/CCITT-FALSE over bytes 2..len-1, then the data ID low and
  *       high byte; stored little endian in bytes 0 and 1; 8-bit counter 0..255 in byte 2.

@@ -18,7 +18,7 @@
  *   Units are the DBC's: speed km/h, yaw rate deg/s, steering deg, angles deg, distance m,
  *   confidence 0..1. The codec converts to the SI/degree fields below.
  *
- * Angles (DESIGN.md §4): H positive to the right, V positive up, seen from the camera; an
+ * Angles (docs/design.md §4): H positive to the right, V positive up, seen from the camera; an
  * object's box is [h_left_deg, h_right_deg] x [v_bottom_deg, v_top_deg] with h_left < h_right.
  * Yaw rate and steering are positive to the left (counter-clockwise seen from above, ISO 8855).
  *

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The closed-loop run's report (docs/loop.md, "The report"): one JSON object written at exit
+ * The closed-loop run's report (docs/loop.md, "--exit-at-end and --report"): one JSON object written at exit
  * with the frames, the lamps' cycles (rendered, not rendered, dropped), each configured
  * verdict set's frames passed and failed, the glare per road user, the loop latencies per
  * event, and the verdict: true only when every configured verdict held — every verdict set on

@@ -147,7 +147,7 @@ static void stream_metrics(struct hl_prom *p, const struct hl_stream_counts *c)
 
 static const char *const image_kinds[HL_IMAGE_KINDS] = { "jpeg", "png", "exr" };
 
-/* The HTTP server's counters (daemon/out/http.h, docs/daemon.md "HTTP live view"). */
+/* The HTTP server's counters (daemon/out/http.h, docs/outputs.md "HTTP live view"). */
 static void http_json(struct hl_http *h, FILE *f)
 {
 	struct hl_http_counts c;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Hostile HTTP load on hdlampd, for issue 18's acceptance numbers (not part of the test suite).
+"""Hostile HTTP load on hdlampd, for the numbers of docs/performance.md (not part of the test suite).
 
 Starts hdlampd on the drive scenario replayed in a loop at real time (frame stream and HTTP on
 free loopback ports), connects a healthy frame stream reader, then runs one load for a bounded
@@ -29,7 +29,7 @@ import threading
 import time
 import urllib.request
 
-HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6fIfBB2xd16x")  # docs/daemon.md, "Frame stream" (v3)
+HEADER = struct.Struct("<IHHQIIIIII5q2Q2BB5x2qB3xII6fIfBB2xd16x")  # docs/outputs.md, "Frame stream" (v3)
 LUA = """
 local threads = {}
 function setup(thread) table.insert(threads, thread) end

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The --preset argument of the hdlamp commands that light lamps (render, glare): a preset file
- * (a name ending in .json or a path with '/', docs/presets.md) or a built-in HD84 preset by name
+ * (a name ending in .json or a path with '/', docs/rendering.md, --preset) or a built-in HD84 preset by name
  * (lamp/model.h: low, high, glarefree, bend_left, bend_right).
  */
 #ifndef HL_TOOLS_PRESET_ARG_H

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A published frame and its wire header (docs/daemon.md, "Frame stream"). The header is sent as is,
+ * A published frame and its wire header (docs/outputs.md, "Frame stream"). The header is sent as is,
  * little endian, before the pixels of every frame on the stream sockets.
  */
 #ifndef HL_DAEMON_CORE_FRAME_H

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The live glare of a scenario (docs/daemon.md, "Scenario and glare"): the render thread
+ * The live glare of a scenario (docs/live-scenario.md, "Scenario and glare"): the render thread
  * evaluates verdict/glare.h on every frame from the frame's world state and its lamps'
  * distributions, into the frame (its glare results and header fields) and into a bounded
  * history of the last N frames (scene.glare_history) that GET /glare.json gives out; the

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The live verdicts (docs/daemon.md, "Verdicts"): the configured regulation sets
+ * The live verdicts (docs/live-verdicts.md, "Verdicts"): the configured regulation sets
  * (verdict.sets, verdict/regulation.h) checked on every rendered frame's combined distributions
  * with verdict/verdict.h, and the road KPIs (render/road_kpi.h) from the same distributions.
  *

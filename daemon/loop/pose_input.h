@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The pose input (docs/daemon.md, "Pose input"): an external driving simulator sends where the
+ * The pose input (docs/live-scenario.md, "Pose input"): an external driving simulator sends where the
  * ego vehicle and the scenario's road users are, one JSON object per UDP datagram:
  *
  *   {"t_s": 12.5, "ego": {"x_m": 0, "y_m": -1.75, "heading_deg": 0},

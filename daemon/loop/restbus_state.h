@@ -6,7 +6,7 @@
  *
  * The camera: a point pos_m in the ego's body frame (ISO 8855: x forward, y left, z up, origin
  * on the ground below the front bumper), looking along the ego's +x, level. A point at
- * (forward f, right r, up u) from it has the type A angles of DESIGN.md §4,
+ * (forward f, right r, up u) from it has the type A angles of docs/design.md §4,
  * H = atan2(r, f), V = atan2(u, hypot(r, f)) (H positive right, V positive up). An object's box
  * is the extent of H and V over its body box's eight corners.
  *

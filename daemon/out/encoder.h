@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The images the HTTP server sends (JPEG for the MJPEG stream, PNG, EXR), encoded off the render
- * path on one thread of the encoder's own (docs/daemon.md, "HTTP live view").
+ * path on one thread of the encoder's own (docs/outputs.md, "HTTP live view").
  *
  * A request asks for an image kind of a frame at least as new as want_seq (the newest published
  * when it came). The encoder encodes each kind at most once per published frame, however many

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The HTTP live view (libmicrohttpd): a page, an MJPEG stream and stills of the newest frame,
- * the daemon's status and metrics, and captures on request (docs/daemon.md, "HTTP live view").
+ * the daemon's status and metrics, and captures on request (docs/outputs.md, "HTTP live view").
  *
  *   GET /             the live page (HTML and JS built into the binary)
  *   GET /stream.mjpg  multipart/x-mixed-replace, one JPEG part per new published frame

@@ -1,4 +1,4 @@
-"""hdlampd's captures (docs/daemon.md, "Captures"): a bounded queue and one writer thread that
+"""hdlampd's captures (docs/outputs.md, "Captures"): a bounded queue and one writer thread that
 works on its own copy of the frame, so that no burst of requests holds a pool frame or grows the
 daemon; unique directories written under a temporary name and renamed; a failed capture leaves
 nothing behind and says why."""

@@ -1,4 +1,4 @@
-"""The HTTP live view under hostile load (issue 18): slow clients, many image requests, SIGTERM.
+"""The HTTP live view under hostile load (docs/outputs.md): slow clients, many image requests, SIGTERM.
 
 hdlampd replays the drive scenario in a loop at real time (160x90) with its frame stream and
 HTTP on free loopback ports. Every check reads the daemon's own counters (/status) and the

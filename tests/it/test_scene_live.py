@@ -1,4 +1,4 @@
-"""hdlampd with a scenario (docs/daemon.md, "Scenario and glare"): the scenario clock on the
+"""hdlampd with a scenario (docs/live-scenario.md, "Scenario and glare"): the scenario clock on the
 replayed log's time (restarting with each --loop pass), the glare at each road user's eye on
 every frame in /status, /metrics, the stream header and /glare.json, equal to 'hdlamp glare' at
 the frame's scenario time; poses from a driving simulator over UDP; a bad scenario file stops

@@ -1,4 +1,4 @@
-"""hdlampd's frame stream and its clients (issue 18): a client that half-closes keeps its
+"""hdlampd's frame stream and its clients (docs/outputs.md): a client that half-closes keeps its
 frames, clients that stop reading are dropped after stream.stall_timeout_ms or replaced by a
 new client when all slots are taken, and a client that sends anything is closed while a reader
 beside it gets every frame. Every wait is for an event the daemon reports (/status, a socket
@@ -169,7 +169,7 @@ def test_half_closed_client_keeps_receiving(hdlamp, lamps, tmp_path):
 
 
 def test_non_readers_over_the_limit_make_room_for_a_reader(hdlamp, lamps, tmp_path):
-    # issue 18: with max_clients non-readers connected a new reader got end of file at once.
+    # a regression seen before: with max_clients non-readers connected a new reader got end of file at once.
     # Now a new client replaces the client behind that took no byte for longest.
     log = hold_log(hdlamp, tmp_path, 50)
     p, port, http = start(lamps, log, "--loop", "--set", "stream.max_clients=4",
@@ -211,7 +211,7 @@ def test_non_readers_over_the_limit_make_room_for_a_reader(hdlamp, lamps, tmp_pa
 
 def test_clients_that_stop_reading_are_dropped_after_the_stall_timeout(hdlamp, lamps,
                                                                        tmp_path):
-    # issue 18: clients that stopped reading were never dropped; they held their slots for ever
+    # a regression seen before: clients that stopped reading were never dropped; they held their slots for ever
     log = hold_log(hdlamp, tmp_path, 50)
     stall_ms = 1000
     p, port, http = start(lamps, log, "--loop", "--set", "stream.max_clients=4",
@@ -240,7 +240,7 @@ def test_clients_that_stop_reading_are_dropped_after_the_stall_timeout(hdlamp, l
 
 def test_a_client_sending_garbage_is_closed_and_a_reader_beside_it_misses_nothing(
         hdlamp, lamps, tmp_path):
-    # issue 18: a client sending garbage had 2 GB read and dropped, was never closed, and the
+    # a regression seen before: a client sending garbage had 2 GB read and dropped, was never closed, and the
     # stream thread's reading cost the renderer cycles (84 not rendered in 25 s). Now its
     # first byte closes it: one read. What the reader missed - frames it skipped, cycles not
     # rendered - is what a busy machine costs, counted exactly by the daemon (printed).

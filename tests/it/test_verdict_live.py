@@ -1,4 +1,4 @@
-"""hdlampd's live verdicts (docs/daemon.md, "Verdicts"): the shipped regulation sets checked on
+"""hdlampd's live verdicts (docs/live-verdicts.md, "Verdicts"): the shipped regulation sets checked on
 every rendered frame of a replayed log, reported in /metrics, /status, the stream header and
 captures; a set that is not there stops the start."""
 import json

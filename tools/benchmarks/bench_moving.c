@@ -39,7 +39,7 @@
 #include "render/view.h"
 #include "tools/benchmarks/bench_stats.h"
 
-#define TARGET_MS 10.0 /* issue 16: a moving 1280 x 720 frame, CPU, median */
+#define TARGET_MS 10.0 /* docs/performance.md: a moving 1280 x 720 frame, CPU, median */
 #define CHANGED_PER_CYCLE 10 /* sources an ECU cycle typically changes per lamp */
 #define FRAME_S 0.02 /* 50 Hz */
 #define T0_S 10.0 /* the first frame's scenario time (the demo drive: all road users near) */

@@ -1,4 +1,4 @@
-"""The hdlamp package's hdlampd.service under systemd 252 as PID 1 (docs/daemon.md, "systemd"):
+"""The hdlamp package's hdlampd.service under systemd 252 as PID 1 (docs/service.md, "systemd"):
 installed from the .deb, started on a vcan the test brings up, reloaded under a CAN replay,
 killed by the watchdog when its renderer hangs (a test-only fault switch) and restarted.
 
