@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The body of struct hl_dbc, shared by parse.c, database.c and codec.c only. Dependencies point
- * one way: parse.c -> database.c -> codec.c (codec.c only reads the structs declared here).
+ * The body of struct hl_dbc, shared by the parser (parse.c, lexer.c, attributes.c), database.c
+ * and codec.c only. Dependencies point one way: the parser -> database.c -> codec.c (codec.c only
+ * reads the structs declared here).
  */
 #ifndef HL_DBC_INTERNAL_H
 #define HL_DBC_INTERNAL_H
