@@ -62,10 +62,10 @@ static void world_at_takes_every_pose_from_the_paths(void **state)
 		assert_true(w.t_s == t);
 		assert_int_equal(w.n_actors, 2);
 		assert_int_equal(w.lamps_on, 0x3);
-		hl_scenario_ego_pose(sc, t, &want);
+		hl_world_ego_pose_at(sc, t, &want);
 		assert_memory_equal(&w.ego, &want, sizeof(want));
 		for (int i = 0; i < 2; i++) {
-			hl_scenario_actor_pose(sc, i, t, &want);
+			hl_world_actor_pose_at(sc, i, t, &want);
 			assert_memory_equal(&w.actor[i], &want, sizeof(want));
 		}
 	}
@@ -159,9 +159,9 @@ static void world_ego_lamps_turn_with_the_ego(void **state)
 	sc->ego.lamp[0].yaw_deg = 0.0;
 	sc->ego.lamp[1].yaw_deg = 0.0;
 	for (double t = 0.0; t <= 10.0; t += 2.5) {
-		hl_scenario_ego_pose(sc, t, &ego);
+		hl_world_ego_pose_at(sc, t, &ego);
 		hl_world_ego_lamps(sc, &ego, got);
-		hl_scenario_ego_lamps(sc, t, want);
+		hl_world_ego_lamps_at(sc, t, want);
 		for (int l = 0; l < 2; l++) {
 			for (int i = 0; i < 3; i++)
 				expect_near(got[l].pos_m[i], want[l].pos_m[i], 1e-12, "pos");
@@ -192,9 +192,9 @@ static void world_actor_eye_is_the_eye_point_through_the_pose(void **state)
 		for (double t = 0.0; t <= 10.0; t += 2.5) {
 			struct hl_body_pose p;
 
-			hl_scenario_actor_pose(sc, i, t, &p);
+			hl_world_actor_pose_at(sc, i, t, &p);
 			hl_world_actor_eye(sc, i, &p, eye);
-			hl_scenario_actor_eye(sc, i, t, want);
+			hl_world_actor_eye_at(sc, i, t, want);
 			for (int k = 0; k < 3; k++)
 				expect_near(eye[k], want[k], 1e-12, "eye");
 		}
