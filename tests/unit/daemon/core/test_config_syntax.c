@@ -54,47 +54,54 @@ static void cfg_modes_one_colon_per_entry_and_no_empty_entry(void **state)
 
 static void cfg_parse_sets_trims_and_refuses_with_reason(void **state)
 {
-	struct hl_config cfg;
+	/* what config.c passes: the verdict sets of a configuration */
+	struct {
+		char ids[HL_CONFIG_MAX_SETS][HL_CONFIG_SET_ID];
+		int n;
+	} cfg;
 	char what[256];
 	char many[40 * 4];
 	(void)state;
 
 	memset(&cfg, 0, sizeof(cfg));
-	assert_int_equal(
-		hl_cfg_parse_sets(&cfg, "\t ece-r149 ,sae-j1383,  x+y  ", what, sizeof(what)), 0);
-	assert_int_equal(cfg.n_verdict_sets, 3);
-	assert_string_equal(cfg.verdict_sets[0], "ece-r149");
-	assert_string_equal(cfg.verdict_sets[1], "sae-j1383");
-	assert_string_equal(cfg.verdict_sets[2], "x+y");
-	assert_int_equal(hl_cfg_parse_sets(&cfg, "", what, sizeof(what)), 0);
-	assert_int_equal(cfg.n_verdict_sets, 0);
+	assert_int_equal(hl_cfg_parse_sets("\t ece-r149 ,sae-j1383,  x+y  ", cfg.ids, &cfg.n, what,
+					   sizeof(what)),
+			 0);
+	assert_int_equal(cfg.n, 3);
+	assert_string_equal(cfg.ids[0], "ece-r149");
+	assert_string_equal(cfg.ids[1], "sae-j1383");
+	assert_string_equal(cfg.ids[2], "x+y");
+	assert_int_equal(hl_cfg_parse_sets("", cfg.ids, &cfg.n, what, sizeof(what)), 0);
+	assert_int_equal(cfg.n, 0);
 
 	/* refusals leave cfg as it was */
-	assert_int_equal(hl_cfg_parse_sets(&cfg, "a,b", what, sizeof(what)), 0);
-	assert_int_equal(hl_cfg_parse_sets(&cfg, "a, b, a", what, sizeof(what)), -EINVAL);
+	assert_int_equal(hl_cfg_parse_sets("a,b", cfg.ids, &cfg.n, what, sizeof(what)), 0);
+	assert_int_equal(hl_cfg_parse_sets("a, b, a", cfg.ids, &cfg.n, what, sizeof(what)),
+			 -EINVAL);
 	assert_string_equal(what, "'a' is named twice");
-	assert_int_equal(hl_cfg_parse_sets(&cfg, "a, ", what, sizeof(what)), -EINVAL);
+	assert_int_equal(hl_cfg_parse_sets("a, ", cfg.ids, &cfg.n, what, sizeof(what)), -EINVAL);
 	assert_string_equal(what, "a set id after the last comma");
-	assert_int_equal(hl_cfg_parse_sets(&cfg, "a,,b", what, sizeof(what)), -EINVAL);
+	assert_int_equal(hl_cfg_parse_sets("a,,b", cfg.ids, &cfg.n, what, sizeof(what)), -EINVAL);
 	assert_string_equal(what, "'': expected set ids (letters, digits, . _ + -, at most 47 "
 				  "characters) separated by commas");
-	assert_int_equal(hl_cfg_parse_sets(&cfg, "a, b/../c", what, sizeof(what)), -EINVAL);
+	assert_int_equal(hl_cfg_parse_sets("a, b/../c", cfg.ids, &cfg.n, what, sizeof(what)),
+			 -EINVAL);
 	assert_string_equal(what, "'b/../c': expected set ids (letters, digits, . _ + -, at most "
 				  "47 characters) separated by commas");
 	/* 33 sets: one more than the frame header has bits */
 	many[0] = '\0';
 	for (int i = 0; i <= HL_CONFIG_MAX_SETS; i++)
 		snprintf(many + strlen(many), sizeof(many) - strlen(many), "%s%d", i ? "," : "", i);
-	assert_int_equal(hl_cfg_parse_sets(&cfg, many, what, sizeof(what)), -EINVAL);
+	assert_int_equal(hl_cfg_parse_sets(many, cfg.ids, &cfg.n, what, sizeof(what)), -EINVAL);
 	assert_string_equal(what, "at most 32 sets (one bit each in the frame header)");
-	assert_int_equal(cfg.n_verdict_sets, 2);
-	assert_string_equal(cfg.verdict_sets[0], "a");
-	assert_string_equal(cfg.verdict_sets[1], "b");
+	assert_int_equal(cfg.n, 2);
+	assert_string_equal(cfg.ids[0], "a");
+	assert_string_equal(cfg.ids[1], "b");
 	/* exactly 32 are fine */
 	*strrchr(many, ',') = '\0';
-	assert_int_equal(hl_cfg_parse_sets(&cfg, many, what, sizeof(what)), 0);
-	assert_int_equal(cfg.n_verdict_sets, HL_CONFIG_MAX_SETS);
-	assert_string_equal(cfg.verdict_sets[31], "31");
+	assert_int_equal(hl_cfg_parse_sets(many, cfg.ids, &cfg.n, what, sizeof(what)), 0);
+	assert_int_equal(cfg.n, HL_CONFIG_MAX_SETS);
+	assert_string_equal(cfg.ids[31], "31");
 }
 
 static void cfg_copy_string_refuses_what_does_not_fit(void **state)
