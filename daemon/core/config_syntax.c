@@ -114,6 +114,8 @@ bool hl_cfg_is_choice(const char *choices, const char *v)
 {
 	const size_t n = strlen(v);
 
+	if (strchr(v, '|')) /* "cpu|gles" is not one of "auto|cpu|gles" */
+		return false;
 	for (const char *c = choices; n && c; c = strchr(c, '|') ? strchr(c, '|') + 1 : NULL)
 		if (strncmp(c, v, n) == 0 && (c[n] == '|' || c[n] == '\0'))
 			return true;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "can/socket.h"
+#include "base/json_write.h"
 
 static void print_cycle(const struct hl_assembler *a, const struct hl_snapshot *s, int l)
 {
@@ -22,19 +23,31 @@ static void print_cycle(const struct hl_assembler *a, const struct hl_snapshot *
 	printf("]}\n");
 }
 
+/* A link or bus event line; the interface name escaped (a kernel name may hold a '"'). */
+static void event_line(const char *event, const char *iface, const char *state, const char *error,
+		       int64_t t_ns)
+{
+	printf("{\"event\":\"%s\",\"iface\":", event);
+	hl_json_write_str(stdout, iface);
+	printf(",\"state\":\"%s\"", state);
+	if (error) {
+		fputs(",\"error\":", stdout);
+		hl_json_write_str(stdout, error);
+	} else if (strcmp(event, "link") == 0) {
+		fputs(",\"error\":\"\"", stdout);
+	}
+	printf(",\"t_ns\":%" PRId64 "}\n", t_ns);
+}
+
 bool hl_decode_report(const char *iface, bool print_cycles, const struct hl_assembler *a,
 		      const struct hl_snapshot *s, struct hl_decode_seen *seen)
 {
 	if ((s->status & HL_INPUT_LINK_UP) != (seen->status & HL_INPUT_LINK_UP) ||
 	    s->link_errno != seen->link_errno)
-		printf("{\"event\":\"link\",\"iface\":\"%s\",\"state\":\"%s\",\"error\":\"%s\",\"t_ns\":%" PRId64
-		       "}\n",
-		       iface, (s->status & HL_INPUT_LINK_UP) ? "up" : "down",
-		       s->link_errno ? strerror(s->link_errno) : "", s->t_event_ns);
+		event_line("link", iface, (s->status & HL_INPUT_LINK_UP) ? "up" : "down",
+			   s->link_errno ? strerror(s->link_errno) : NULL, s->t_event_ns);
 	if (s->bus != seen->bus)
-		printf("{\"event\":\"bus\",\"iface\":\"%s\",\"state\":\"%s\",\"t_ns\":%" PRId64
-		       "}\n",
-		       iface, hl_can_bus_state_name(s->bus), s->t_event_ns);
+		event_line("bus", iface, hl_can_bus_state_name(s->bus), NULL, s->t_event_ns);
 	for (int l = 0; l < hl_assembler_n_lamps(a); l++) {
 		const bool was_stale = seen->lamp_status[l] & HL_LAMP_STALE;
 		const bool stale = s->lamps[l].status & HL_LAMP_STALE;

@@ -317,5 +317,6 @@ int hl_glare_live_json(struct hl_glare_live *gl, char *buf, size_t size)
 	n = ftell(f);
 	fclose(f);
 	free(copy);
-	return n >= (long)size - 1 ? -ENOBUFS : (int)n;
+	/* n bytes and the NUL fit in size; a longer text stops at size */
+	return n >= (long)size ? -ENOBUFS : (int)n;
 }

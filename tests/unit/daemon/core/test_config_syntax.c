@@ -125,6 +125,9 @@ static void cfg_choice_is_a_whole_word_and_its_text(void **state)
 	assert_true(hl_cfg_is_choice("auto|cpu|gles", "auto"));
 	assert_true(hl_cfg_is_choice("auto|cpu|gles", "cpu"));
 	assert_true(hl_cfg_is_choice("auto|cpu|gles", "gles"));
+	/* a value holding the separator is no single choice */
+	assert_false(hl_cfg_is_choice("auto|cpu|gles", "cpu|gles"));
+	assert_false(hl_cfg_is_choice("auto|cpu|gles", "|"));
 	assert_false(hl_cfg_is_choice("auto|cpu|gles", "gl"));
 	assert_false(hl_cfg_is_choice("auto|cpu|gles", "auto|"));
 	assert_false(hl_cfg_is_choice("auto|cpu|gles", ""));

@@ -142,6 +142,12 @@ static void decode_report_link_and_bus_only_when_they_change(void **state)
 	hl_decode_report("vcan0", false, as, &p.s, &seen);
 	assert_string_equal(end(), "{\"event\":\"bus\",\"iface\":\"vcan0\",\"state\":\"bus-off\","
 				   "\"t_ns\":5}\n");
+	/* the kernel allows a '"' in an interface name: the line stays JSON */
+	p.s.bus = HL_CAN_BUS_WARNING;
+	begin();
+	hl_decode_report("can\"0", false, as, &p.s, &seen);
+	assert_string_equal(end(), "{\"event\":\"bus\",\"iface\":\"can\\\"0\",\"state\":"
+				   "\"error-warning\",\"t_ns\":5}\n");
 }
 
 static void decode_report_cycles_only_when_asked_and_when_new(void **state)

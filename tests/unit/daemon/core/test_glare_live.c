@@ -211,7 +211,8 @@ static void glare_live_history_keeps_the_last_n_oldest_first(void **state)
 	/* too small, by one byte and by much */
 	assert_int_equal(hl_glare_live_json(gl, buf, (size_t)n), -ENOBUFS);
 	assert_int_equal(hl_glare_live_json(gl, buf, 10), -ENOBUFS);
-	assert_int_equal(hl_glare_live_json(gl, buf, (size_t)n + 2), n);
+	assert_int_equal(hl_glare_live_json(gl, buf, (size_t)n + 1), n);
+	assert_int_equal(strlen(buf), (size_t)n);
 	hl_glare_live_free(gl);
 	free(f);
 }
