@@ -272,6 +272,8 @@ const char *hl_json_error_format(const struct hl_json_error *err, char *buf, siz
 	return buf;
 }
 
+#define MAX_FILE_BYTES ((size_t)64 << 20) /* a JSON file we read: at most 64 MiB */
+
 int hl_json_read_file(const char *path, char **ret, struct hl_json_error *err)
 {
 	FILE *f = fopen(path, "re");
@@ -289,14 +291,20 @@ int hl_json_read_file(const char *path, char **ret, struct hl_json_error *err)
 			snprintf(err->msg, sizeof(err->msg), "cannot open: %s", strerror(-rc));
 		return rc;
 	}
+	/* the buffer doubles (reading is linear in the file's size); it holds at most
+	 * MAX_FILE_BYTES and the NUL, and one byte more tells a larger file apart */
 	for (;;) {
 		size_t n;
 
 		if (len + 1 >= size) {
-			char *t = size < (64u << 20) ? realloc(text, size + 65536) : NULL;
+			const size_t want = size ? (size * 2 < MAX_FILE_BYTES + 2 ?
+							    size * 2 :
+							    MAX_FILE_BYTES + 2) :
+						   65536;
+			char *t = want > size ? realloc(text, want) : NULL;
 
 			if (!t) {
-				rc = size < (64u << 20) ? -ENOMEM : -EFBIG;
+				rc = want > size ? -ENOMEM : -EFBIG;
 				if (err)
 					snprintf(err->msg, sizeof(err->msg), "%s",
 						 rc == -EFBIG ? "larger than 64 MiB" :
@@ -304,10 +312,16 @@ int hl_json_read_file(const char *path, char **ret, struct hl_json_error *err)
 				goto err_free;
 			}
 			text = t;
-			size += 65536;
+			size = want;
 		}
 		n = fread(text + len, 1, size - len - 1, f);
 		len += n;
+		if (len > MAX_FILE_BYTES) {
+			rc = -EFBIG;
+			if (err)
+				snprintf(err->msg, sizeof(err->msg), "larger than 64 MiB");
+			goto err_free;
+		}
 		if (n == 0)
 			break;
 	}

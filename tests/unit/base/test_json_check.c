@@ -197,9 +197,8 @@ static void write_file(const char *path, const void *data, size_t len)
 	assert_int_equal(fclose(f), 0);
 }
 
-/* The whole file, across the 64 KiB growth steps; missing, NUL bytes and a directory each with
- * their -errno and message. (Over 64 MiB, -EFBIG, is not tested: reading that far grows the
- * buffer 64 KiB at a time, six minutes under ASan.) */
+/* The whole file, across the buffer's growth steps; missing, NUL bytes and a directory each with
+ * their -errno and message. */
 static void json_read_file_reads_whole_files_and_refuses_the_rest(void **state)
 {
 	char path[4096], dir[4096], *text = (char *)&text;
@@ -247,6 +246,31 @@ static void json_read_file_reads_whole_files_and_refuses_the_rest(void **state)
 	test_path(path, sizeof(path), "big.json");
 	unlink(path);
 	free(want);
+}
+
+/* 64 MiB exactly is read; one byte more is -EFBIG, "larger than 64 MiB". */
+static void json_read_file_takes_64_mib_and_refuses_one_byte_more(void **state)
+{
+	const size_t max = (size_t)64 << 20;
+	char path[4096], *text = NULL;
+	struct hl_json_error err;
+	char *spaces = malloc(max + 1);
+
+	(void)state;
+	assert_non_null(spaces);
+	memset(spaces, ' ', max + 1);
+	test_path(path, sizeof(path), "max.json");
+	write_file(path, spaces, max);
+	assert_int_equal(hl_json_read_file(path, &text, &err), 0);
+	assert_int_equal(strlen(text), max);
+	free(text);
+	text = (char *)&text;
+	write_file(path, spaces, max + 1);
+	assert_int_equal(hl_json_read_file(path, &text, &err), -EFBIG);
+	assert_string_equal(err.msg, "larger than 64 MiB");
+	assert_ptr_equal(text, &text);
+	unlink(path);
+	free(spaces);
 }
 
 /* An unknown key is named with its path and place and the keys that are allowed. */
@@ -397,6 +421,7 @@ int main(void)
 		cmocka_unit_test(json_loc_new_refuses_text_that_is_not_json),
 		cmocka_unit_test(json_error_format_and_paths_leave_out_what_is_unknown),
 		cmocka_unit_test(json_read_file_reads_whole_files_and_refuses_the_rest),
+		cmocka_unit_test(json_read_file_takes_64_mib_and_refuses_one_byte_more),
 		cmocka_unit_test(json_check_object_names_the_unknown_key),
 		cmocka_unit_test(json_get_number_and_int_check_type_and_range),
 		cmocka_unit_test(json_get_enum_string_and_vec3_name_what_was_expected),
