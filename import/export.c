@@ -387,6 +387,15 @@ static void keyword(FILE *f, const char *key, const char *value)
 	fprintf(f, "[%s] %s\n", key, clean);
 }
 
+/* The stream's write error as -errno (ENOSPC on a full disk), -EIO when it kept none. */
+static int finish(FILE *f)
+{
+	errno = 0;
+	if (fflush(f) == 0 && !ferror(f))
+		return 0;
+	return errno ? -errno : -EIO;
+}
+
 int hl_export_ies(const struct hl_gonio *g, const struct hl_export_meta *meta, FILE *f)
 {
 	const enum hl_gonio_system s = hl_gonio_system(g);
@@ -417,8 +426,7 @@ int hl_export_ies(const struct hl_gonio *g, const struct hl_export_meta *meta, F
 	numbers_d(f, hl_gonio_planes(g), n_p, 10);
 	for (int i = 0; i < n_p; i++)
 		numbers_f(f, hl_gonio_values(g) + (size_t)i * n_q, n_q, 10);
-	if (fflush(f) != 0 || ferror(f))
-		return -EIO;
+	return finish(f);
 	return 0;
 }
 
@@ -429,8 +437,14 @@ int hl_export_csv(const struct hl_gonio *g, const struct hl_export_meta *meta, F
 	const double *p = hl_gonio_planes(g), *q = hl_gonio_in(g);
 	const float *v = hl_gonio_values(g);
 
-	fprintf(f, "# hdlamp lid export%s%s: luminous intensity in cd\n",
-		meta && meta->name ? " of " : "", meta && meta->name ? meta->name : "");
+	fputs("# hdlamp lid export", f);
+	if (meta && meta->name) {
+		/* one comment line: a line break in the name would start a data row */
+		fputs(" of ", f);
+		for (const char *c = meta->name; *c; c++)
+			fputc(*c == '\n' || *c == '\r' ? ' ' : *c, f);
+	}
+	fputs(": luminous intensity in cd\n", f);
 	if (s == HL_GONIO_C)
 		fprintf(f, "# type C: columns C (deg, C0 forward, C90 left), rows gamma (deg, "
 			   "0 = nadir)\n");
@@ -449,7 +463,6 @@ int hl_export_csv(const struct hl_gonio *g, const struct hl_export_meta *meta, F
 			fprintf(f, ",%.9g", (double)v[(size_t)i * n_q + j]);
 		fputc('\n', f);
 	}
-	if (fflush(f) != 0 || ferror(f))
-		return -EIO;
+	return finish(f);
 	return 0;
 }
