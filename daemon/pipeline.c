@@ -18,8 +18,8 @@
 #include "daemon/core/glare_live.h"
 #include "daemon/loop/pose_input.h"
 #include "base/sched.h"
+#include "render/compose.h"
 #include "render/egl.h"
-#include "render/pixel.h"
 #include "render/renderer.h"
 #include "render/view.h"
 #include "render/workers.h"
@@ -392,19 +392,6 @@ static void record_time(struct hl_pipeline *p, double ms, bool published, uint32
 	pthread_mutex_unlock(&p->lock);
 }
 
-struct display_job {
-	const struct hl_gbuffer *gb;
-	double exposure_ev;
-	uint8_t *rgb;
-};
-
-static void display_band(void *userdata, const float *lux, size_t first, size_t count)
-{
-	const struct display_job *j = userdata;
-
-	hl_view_display_range(j->gb, lux, j->exposure_ev, first, count, j->rgb);
-}
-
 /* The raw value a signal of this scale carries for relative current i (nearest step). */
 static uint8_t raw_of(const struct hl_source_scale *s, float i)
 {
@@ -474,24 +461,6 @@ static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int new
 _Static_assert(HL_FRAME_MAX_GLOW >= HL_SCN_MAX_ACTORS * HL_SCN_MAX_LAMPS,
 	       "a frame records the glow of every road user's lamp");
 
-/*
- * Blacks out the road users' lamps drawn when this pool buffer last held a frame: the display
- * pass rewrites only the pixels the ego lamps reach, and those are written again after this.
- */
-static void clear_glow(const struct hl_pipeline *p, struct hl_frame *f)
-{
-	const int w = p->cfg.width;
-
-	for (int k = 0; k < f->n_glow; k++) {
-		const int *b = f->glow[k];
-
-		for (int y = b[1]; y <= b[3]; y++)
-			memset(f->pixels + 3 * ((size_t)y * w + b[0]), 0,
-			       3 * (size_t)(b[2] - b[0] + 1));
-	}
-	f->n_glow = 0;
-}
-
 /* One frame from the snapshot in p->snap. */
 static void render(struct hl_pipeline *p)
 {
@@ -550,21 +519,18 @@ static void render(struct hl_pipeline *p)
 	}
 	if (f && p->view == HL_VIEW_DISPLAY) {
 		/* tone-mapped band by band while the band's illuminance is in the cache */
-		struct display_job j = { p->gb, ev, f->pixels };
+		struct hl_compose_display j = { p->gb, ev, f->pixels };
 
-		if (p->ws)
-			clear_glow(p, f);
-		hl_renderer_frame_pixels(p->r, f->lux, display_band, &j);
-		if (p->ws) {
-			/* the road users' lamps, as the driver sees them */
-			const int n = hl_world_scene_emitters(
-				p->ws, &p->world, &p->cam, p->emitters,
-				(int)(sizeof(p->emitters) / sizeof(p->emitters[0])));
-
-			hl_world_emitters_draw(&p->cam, p->emitters, n, ev, f->pixels);
-			f->n_glow = hl_world_emitters_boxes(&p->cam, p->emitters, n, ev, f->glow,
-							    HL_FRAME_MAX_GLOW);
+		if (p->ws) { /* the road users' lamps of the frame this buffer last held */
+			hl_compose_clear_boxes(f->pixels, p->cfg.width, f->glow, f->n_glow);
+			f->n_glow = 0;
 		}
+		hl_renderer_frame_pixels(p->r, f->lux, hl_compose_display_band, &j);
+		if (p->ws)
+			f->n_glow = hl_compose_emitters(
+				p->ws, &p->world, &p->cam, ev, p->emitters,
+				(int)(sizeof(p->emitters) / sizeof(p->emitters[0])), f->pixels,
+				f->glow, HL_FRAME_MAX_GLOW);
 	} else {
 		hl_renderer_frame(p->r, f ? f->lux : p->lux);
 	}
@@ -573,15 +539,9 @@ static void render(struct hl_pipeline *p)
 		case HL_VIEW_LUX:
 			hl_view_lux(p->gb, f->lux, &p->lux_opts, f->pixels);
 			break;
-		case HL_VIEW_HDR: {
-			uint16_t *h = (uint16_t *)f->pixels;
-			const size_t n = (size_t)p->cfg.width * p->cfg.height * 4;
-
-			hl_view_hdr(p->gb, f->lux, p->rgba);
-			for (size_t i = 0; i < n; i++)
-				h[i] = hl_pixel_half_from_float(p->rgba[i]);
+		case HL_VIEW_HDR:
+			hl_compose_hdr(p->gb, f->lux, p->rgba, (uint16_t *)f->pixels);
 			break;
-		}
 		default: /* display: done with the frame */
 			break;
 		}

@@ -1,0 +1,17 @@
+/* SPDX-License-Identifier: MIT */
+/* hdlampd's log line: see daemon/live_log.h. */
+#include "daemon/live_log.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+void hl_live_log(const char *fmt, ...)
+{
+	va_list ap;
+
+	va_start(ap, fmt);
+	fputs("hdlampd: ", stderr);
+	vfprintf(stderr, fmt, ap);
+	fputc('\n', stderr);
+	va_end(ap);
+}
