@@ -35,6 +35,7 @@
 #include "daemon/run_report.h"
 #include "dbc/database.h"
 #include "lamp/lid.h"
+#include "world/scenario_clock.h"
 
 struct live {
 	struct hl_config cfg;
@@ -370,7 +371,7 @@ static bool scenario_over(struct live *lv)
 	const int64_t t0 = hl_pipeline_scene_t0_ns(hl_live_render_pipeline(lv->render));
 
 	return lv->cfg.loop_exit_at_end && lv->sc && !lv->cfg.replay[0] && !lv->pose && t0 > 0 &&
-	       hl_clock_monotonic_ns() >= t0 + (int64_t)(lv->sc->duration_s * 1e9) + END_MARGIN_NS;
+	       hl_scenario_clock_over(lv->sc, t0, hl_clock_monotonic_ns(), END_MARGIN_NS);
 }
 
 /* The run's end: the loop finished, the report written, the exit code (run_report.h). */

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The daemon's moving scene (scene.*, pose.listen; docs/daemon.md, "Scenario and glare"): the
+ * The daemon's moving scene (scene.*, pose.listen; docs/live-scenario.md, "Scenario and glare"): the
  * scenario, the regulation set of its glare limits, the live glare on the two lamps' grids and
  * the pose input, made and logged together and freed together.
  *

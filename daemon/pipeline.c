@@ -25,6 +25,7 @@
 #include "render/workers.h"
 #include "render/world_scene.h"
 #include "daemon/core/sched_start.h"
+#include "world/scenario_clock.h"
 
 #define IDLE_WAKE_MS 100 /* longest wait without a snapshot, so stop and the watchdog are seen */
 /*
@@ -447,14 +448,13 @@ static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int new
 		const struct hl_lamp_snapshot *ls = &s->lamps[newest];
 
 		t_s = (ls->status & HL_LAMP_VALID) ?
-			      (double)(ls->t_complete_ns - s->t_pass_ns) / 1e9 :
+			      hl_scenario_clock_at(p->sc, s->t_pass_ns, ls->t_complete_ns) :
 			      0.0;
 		p->world_source = HL_SCENE_LOG;
 	} else {
-		t_s = (double)(hl_clock_monotonic_ns() - p->t_start_ns) / 1e9;
+		t_s = hl_scenario_clock_at(p->sc, p->t_start_ns, hl_clock_monotonic_ns());
 		p->world_source = HL_SCENE_CLOCK;
 	}
-	t_s = t_s < 0.0 ? 0.0 : t_s > p->sc->duration_s ? p->sc->duration_s : t_s;
 	hl_world_at(p->sc, t_s, &p->world);
 }
 

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A verdict set's record over a run, as a test engineer reads it (docs/verdicts.md, "Now and so
- * far"): the newest frame ("now": pass, FAIL, or not applicable when the set is outside its beam
+ * A verdict set's record over a run, as a test engineer reads it
+ * (docs/verdicts.md, "Now and so far"): the newest frame ("now": pass, FAIL, or not applicable when the set is outside its beam
  * mode) kept apart from the run so far (frames evaluated, failed and not applicable, the longest
  * failing stretch in seconds, the worst margin and where it was), and a strip with one cell per
  * frame: the last HL_RECORD_STRIP frames cell by cell, and the whole run as runs of equal cells
