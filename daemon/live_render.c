@@ -27,6 +27,7 @@ struct hl_live_render {
 	struct hl_live_render_parts parts;
 	struct hl_frame_pool *pool;
 	struct hl_pipeline *pipe;
+	struct hl_verdict_records *records; /* the verdict sets' now and so far; NULL: no sets */
 	struct hl_stream *stream;
 	struct hl_gpio *gpio;
 	struct hl_status *status;
@@ -209,6 +210,13 @@ static int setup_renderer(struct hl_live_render *r, bool *config_error)
 		else
 			hl_pipeline_set_scene(r->pipe, pt->sc, pt->glare, pt->pose);
 	}
+	if (rc == 0 && pt->verdicts) {
+		rc = hl_verdict_records_new(pt->verdicts, &r->records);
+		if (rc < 0)
+			hl_live_log("verdict records: %s", strerror(-rc));
+		else
+			hl_pipeline_set_records(r->pipe, r->records);
+	}
 	for (int l = 0; l < HL_FRAME_MAX_LAMPS; l++) {
 		free(dims[l]);
 		free(scales[l]);
@@ -378,6 +386,7 @@ void hl_live_render_free(struct hl_live_render *r)
 		hl_frame_pool_unsubscribe(r->pool, strobe, r->gpio);
 	hl_gpio_free(r->gpio);
 	hl_status_free(r->status);
+	hl_verdict_records_free(r->records); /* after the pipeline and the status that use them */
 	hl_http_free(r->http); /* after the status that reads its counters */
 	if (r->parts.loop && r->pool)
 		hl_frame_pool_unsubscribe(r->pool, loop_frame, r->parts.loop);

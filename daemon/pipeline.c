@@ -49,6 +49,7 @@ struct hl_pipeline {
 	struct hl_ring *ring;
 	struct hl_frame_pool *pool;
 	const struct hl_verdicts *verdicts; /* NULL: none */
+	struct hl_verdict_records *records; /* their records over the run; NULL: none */
 	struct hl_pipeline_hooks hooks;
 	/* the moving scene (hl_pipeline_set_scene): NULL without a scenario */
 	const struct hl_scenario *sc;
@@ -583,6 +584,8 @@ static void render(struct hl_pipeline *p)
 		f->hdr.t_render_start_ns = t0;
 		f->hdr.t_render_done_ns = hl_clock_monotonic_ns();
 		f->hdr.t_sent_ns = 0;
+		if (p->verdicts && p->records)
+			hl_verdict_records_add(p->records, f); /* now and so far, per set */
 		hl_frame_pool_publish(p->pool, f); /* and the pool wakes its subscribers */
 	}
 	record_time(p, (double)(hl_clock_monotonic_ns() - t0) / 1e6, f != NULL, flags, evaluated,
@@ -719,6 +722,16 @@ static void *thread_main(void *arg)
 	}
 	teardown(p);
 	return NULL;
+}
+
+void hl_pipeline_set_records(struct hl_pipeline *p, struct hl_verdict_records *records)
+{
+	p->records = records;
+}
+
+struct hl_verdict_records *hl_pipeline_records(const struct hl_pipeline *p)
+{
+	return p->records;
 }
 
 void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,

@@ -23,6 +23,7 @@
 #include "daemon/core/frame_pool.h"
 #include "daemon/core/prom.h"
 #include "daemon/core/ring.h"
+#include "daemon/core/verdict_records.h"
 #include "daemon/core/verdicts.h"
 #include "lamp/lid.h"
 #include "world/scenario.h"
@@ -80,6 +81,14 @@ void hl_pipeline_free(struct hl_pipeline *p);
 struct hl_glare_live;
 struct hl_pose_input;
 
+/*
+ * Before hl_pipeline_start: the records (daemon/core/verdict_records.h) the render thread feeds
+ * with every frame whose verdicts ran; NULL: none. The caller owns them and frees them after
+ * the pipeline.
+ */
+void hl_pipeline_set_records(struct hl_pipeline *p, struct hl_verdict_records *records);
+/* The records set before the start, NULL for none. */
+struct hl_verdict_records *hl_pipeline_records(const struct hl_pipeline *p);
 /*
  * Before start: the moving scene. sc (NULL: none) sets each frame's world state (the scenario
  * clock: the replayed log's time, or CLOCK_MONOTONIC since start live; or pose's newest

@@ -9,6 +9,29 @@
 #include <string.h>
 #include <unistd.h>
 
+/* A set's record in the report: now, so far and the whole run's strip (verdict_records.h). */
+struct report_set {
+	const struct hl_verdicts *v;
+	int set;
+	FILE *f;
+};
+
+static void write_record(void *ud, const struct hl_record *const *records, int n)
+{
+	const struct report_set *rs = ud;
+	const char *req_ids[HL_REG_MAX_REQUIREMENTS], *part_names[HL_FRAME_MAX_LAMPS];
+	struct hl_record_summary sum;
+
+	if (rs->set >= n)
+		return;
+	hl_record_summary(records[rs->set], &sum);
+	hl_verdicts_names(rs->v, rs->set, req_ids, part_names);
+	fputc(',', rs->f);
+	hl_record_json_summary(&sum, req_ids, part_names, rs->f);
+	fputc(',', rs->f);
+	hl_verdict_records_json_runs(rs->v, rs->set, records[rs->set], rs->f);
+}
+
 /* Why the verdict failed, as a mask of these. */
 enum {
 	NO_FRAMES = 1,
@@ -90,10 +113,16 @@ void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
 		hl_json_write_str(f, hl_verdicts_set(s->verdicts, i)->id);
 		fprintf(f,
 			",\"frames\":%" PRIu64 ",\"passed\":%" PRIu64 ",\"failed\":%" PRIu64
-			",\"held\":%s}",
+			",\"held\":%s",
 			pc.verdict_frames[i], pc.verdict_frames[i] - pc.verdict_failed_frames[i],
 			pc.verdict_failed_frames[i],
 			pc.verdict_failed_frames[i] ? "false" : "true");
+		if (s->pipe && hl_pipeline_records(s->pipe)) {
+			struct report_set rs = { s->verdicts, i, f };
+
+			hl_verdict_records_read(hl_pipeline_records(s->pipe), write_record, &rs);
+		}
+		fputc('}', f);
 	}
 	fputs("],\"glare_set\":", f);
 	hl_json_write_str(f, s->glare_set);

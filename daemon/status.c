@@ -251,6 +251,44 @@ static void pose_metrics(struct hl_pose_input *pi, struct hl_prom *p)
 			      (double)(hl_clock_monotonic_ns() - c.t_last_ok_ns) / 1e9);
 }
 
+/* The records' summaries and strips, copied under their lock (verdict_records.h). */
+struct so_far_copy {
+	struct hl_verdicts_so_far sf[HL_VERDICTS_MAX_SETS];
+	struct hl_record_cellinfo *cells; /* HL_RECORD_STRIP per set */
+};
+
+static void copy_records(void *ud, const struct hl_record *const *records, int n)
+{
+	struct so_far_copy *c = ud;
+
+	for (int i = 0; i < n && i < HL_VERDICTS_MAX_SETS; i++) {
+		struct hl_record_cellinfo *cells = c->cells + (size_t)i * HL_RECORD_STRIP;
+
+		hl_record_summary(records[i], &c->sf[i].sum);
+		c->sf[i].n_strip = hl_record_strip(records[i], cells, HL_RECORD_STRIP);
+		c->sf[i].strip = cells;
+	}
+}
+
+/* The verdicts of the newest frame fr with each set's record (now, so far, the strip). */
+static void verdicts_json(const struct hl_status_sources *s, const struct hl_frame *fr, FILE *f)
+{
+	struct hl_verdict_records *rec = hl_pipeline_records(s->pipe);
+	const int n = hl_verdicts_n_sets(s->verdicts);
+	struct so_far_copy *c = rec ? calloc(1, sizeof(*c)) : NULL;
+
+	if (c)
+		c->cells = calloc((size_t)(n > 0 ? n : 1) * HL_RECORD_STRIP, sizeof(*c->cells));
+	if (c && c->cells) {
+		hl_verdict_records_read(rec, copy_records, c);
+		hl_verdicts_json(s->verdicts, fr, c->sf, f);
+	} else {
+		hl_verdicts_json(s->verdicts, fr, NULL, f); /* no records, or no memory for them */
+	}
+	if (c)
+		free(c->cells);
+	free(c);
+}
 int hl_status_json(struct hl_status *st, char *buf, size_t size)
 {
 	const struct hl_status_sources *s = &st->src;
@@ -312,8 +350,7 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 
 		fprintf(f, ",\"verdict_ms_last\":%.4f,\"verdict_ms_max\":%.4f,",
 			v.pc.verdict_ms_last, v.pc.verdict_ms_max);
-		hl_verdicts_json(s->verdicts, fr, v.pc.verdict_frames, v.pc.verdict_failed_frames,
-				 f);
+		verdicts_json(s, fr, f);
 		hl_frame_pool_release(s->pool, fr);
 	}
 	if (s->glare && s->pool) {

@@ -109,7 +109,7 @@ void hl_record_add(struct hl_record *r, const struct hl_record_frame *f)
 		s->not_applicable++;
 	} else {
 		s->evaluated++;
-		if (!s->has_worst || f->margin < s->worst_margin) {
+		if (!isnan(f->margin) && (!s->has_worst || f->margin < s->worst_margin)) {
 			s->has_worst = 1;
 			s->worst_margin = f->margin;
 			s->worst_req = f->req;
@@ -128,9 +128,14 @@ void hl_record_add(struct hl_record *r, const struct hl_record_frame *f)
 		r->in_stretch = false;
 		end_stretch(r, f->t_s);
 	}
-	r->strip[r->strip_head] = (struct hl_record_cellinfo){ .cell = (char)f->cell,
-							       .req = (int16_t)req,
-							       .part = (int8_t)part };
+	r->strip[r->strip_head] = (struct hl_record_cellinfo){
+		.cell = (char)f->cell,
+		.part = (int8_t)part,
+		.req = (int16_t)req,
+		.mode = (int16_t)(f->mode > INT16_MAX ? INT16_MAX :
+				  f->mode < 0	      ? -1 :
+							f->mode),
+	};
 	r->strip_head = (r->strip_head + 1) % HL_RECORD_STRIP;
 	if (r->strip_n < HL_RECORD_STRIP)
 		r->strip_n++;
@@ -226,8 +231,31 @@ void hl_record_json_summary(const struct hl_record_summary *s, const char *const
 	fprintf(out, ",\"frames_unstripped\":%llu}", (unsigned long long)s->frames_unstripped);
 }
 
+static void json_modes(const struct hl_record_cellinfo *cells, size_t n,
+		       hl_record_mode_name_fn mode_name, const void *ud, FILE *out)
+{
+	fputs(",\"modes\":[", out);
+	for (size_t i = 0, j; i < n; i = j) {
+		const char *name = cells[i].mode >= 0 && mode_name ? mode_name(ud, cells[i].mode) :
+								     NULL;
+
+		for (j = i + 1; j < n && cells[j].mode == cells[i].mode; j++) {
+		}
+		fprintf(out, "%s[%zu,%zu,", i ? "," : "", i, j - i);
+		if (name)
+			hl_json_write_str(out, name);
+		else if (cells[i].mode >= 0)
+			fprintf(out, "%d", cells[i].mode);
+		else
+			fputs("null", out);
+		fputc(']', out);
+	}
+	fputc(']', out);
+}
+
 void hl_record_json_strip(const struct hl_record_cellinfo *cells, size_t n,
-			  const char *const *req_ids, const char *const *part_names, FILE *out)
+			  const char *const *req_ids, const char *const *part_names,
+			  hl_record_mode_name_fn mode_name, const void *ud, FILE *out)
 {
 	size_t i = 0;
 	bool first = true;
@@ -255,6 +283,7 @@ void hl_record_json_strip(const struct hl_record_cellinfo *cells, size_t n,
 		i = j;
 	}
 	fputc(']', out);
+	json_modes(cells, n, mode_name, ud, out);
 }
 
 void hl_record_json_runs(const struct hl_record_run *runs, size_t n, const char *const *req_ids,

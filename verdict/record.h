@@ -38,7 +38,8 @@ struct hl_record_frame {
 	double t_s; /* the frame's time on the run's clock (s) */
 	enum hl_record_cell cell;
 	int req, part; /* the deciding requirement (index in the set) and part; -1 with NA */
-	double margin; /* its margin (< 0: failed); ignored with NA */
+	double margin; /* its margin (< 0: failed); ignored with NA and when NaN */
+	int mode; /* the frame's beam mode (the mode signal's raw value), -1: none */
 };
 
 /* A run of equal cells in the whole-run strip. */
@@ -53,9 +54,13 @@ struct hl_record_run {
 /* A cell of the recent strip. */
 struct hl_record_cellinfo {
 	char cell;
-	int16_t req; /* on a failing cell: the requirement that failed worst; -1 otherwise */
 	int8_t part;
+	int16_t req; /* on a failing cell: the requirement that failed worst; -1 otherwise */
+	int16_t mode; /* the frame's beam mode, -1: none (values past 32767 as 32767) */
 };
+
+/* A beam mode's name for the JSON (NULL: written as its number). */
+typedef const char *(*hl_record_mode_name_fn)(const void *ud, int mode);
 
 struct hl_record_summary {
 	uint64_t frames; /* every frame the set was asked about */
@@ -105,10 +110,13 @@ void hl_record_json_summary(const struct hl_record_summary *s, const char *const
 			    const char *const *part_names, FILE *out);
 /*
  * The recent strip as JSON members "cells":"pfn...","failing":[[first,count,"req","part"],...]
- * (runs of failing cells with the same deciding requirement, by index into cells).
+ * (runs of failing cells with the same deciding requirement, by index into cells),
+ * "modes":[[first,count,"name"|value|null],...] (runs of frames in one beam mode; mode_name
+ * (may be NULL) names them).
  */
 void hl_record_json_strip(const struct hl_record_cellinfo *cells, size_t n,
-			  const char *const *req_ids, const char *const *part_names, FILE *out);
+			  const char *const *req_ids, const char *const *part_names,
+			  hl_record_mode_name_fn mode_name, const void *ud, FILE *out);
 /* The whole-run strip as a JSON array [[t0_s,frames,"p|f|n","req"|null,"part"|null],...]. */
 void hl_record_json_runs(const struct hl_record_run *runs, size_t n, const char *const *req_ids,
 			 const char *const *part_names, FILE *out);

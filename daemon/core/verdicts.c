@@ -446,8 +446,40 @@ static void json_part(const struct hl_verdicts *v, int i, int j, const struct hl
 	fputs("]}", out);
 }
 
-void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, const uint64_t *frames,
-		      const uint64_t *failed_frames, FILE *out)
+void hl_verdicts_names(const struct hl_verdicts *v, int set, const char **ret_req_ids,
+		       const char **ret_part_names)
+{
+	const struct hl_regulation *reg = v->sets[set].reg;
+
+	for (int k = 0; k < reg->n_requirements; k++)
+		ret_req_ids[k] = reg->req[k].id;
+	for (int j = 0; j < v->sets[set].n_parts; j++)
+		ret_part_names[j] = hl_verdicts_part_name(v, set, j);
+}
+
+static const char *mode_name(const void *ud, int mode)
+{
+	return hl_verdicts_mode_name(ud, mode);
+}
+
+/* A set's record (docs/verdicts.md, "Now and so far"): "now", "so_far" and "strip". */
+static void record_json(const struct hl_verdicts *v, int set, const struct hl_verdicts_so_far *sf,
+			FILE *out)
+{
+	const char *req_ids[HL_REG_MAX_REQUIREMENTS], *part_names[HL_FRAME_MAX_LAMPS];
+
+	hl_verdicts_names(v, set, req_ids, part_names);
+	hl_record_json_summary(&sf->sum, req_ids, part_names, out);
+	if (sf->strip) {
+		fputs(",\"strip\":{", out);
+		hl_record_json_strip(sf->strip, sf->n_strip, req_ids, part_names, mode_name, v,
+				     out);
+		fputc('}', out);
+	}
+}
+
+void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
+		      const struct hl_verdicts_so_far *so_far, FILE *out)
 {
 	const struct hl_road_kpi_options *o = &v->road_opts;
 
@@ -464,7 +496,10 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, con
 		hl_json_write_str(out, hl_verdicts_mode_name(v, f->beam_mode));
 	else
 		fprintf(out, "%" PRId64, f->beam_mode);
-	fputs(",\"sets\":[", out);
+	/* how the sets are applied: each in its beam mode (a mode signal), or every set on every
+	 * frame (none); verdict.modes, when given, says which sets each mode has */
+	fprintf(out, ",\"mode_aware\":%s,\"modes_configured\":%s,\"sets\":[",
+		v->mode_lamp >= 0 ? "true" : "false", v->by_mode ? "true" : "false");
 	for (int i = 0; i < v->n_sets; i++) {
 		const struct set *s = &v->sets[i];
 		const bool evaluated = f && (f->hdr.sets_evaluated & (1u << i));
@@ -473,16 +508,15 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, con
 		hl_json_write_str(out, s->reg->id);
 		fputs(",\"title\":", out);
 		hl_json_write_str(out, s->reg->title);
-		fprintf(out, ",\"applies\":\"%s\",\"evaluated\":%s,\"pass\":%s",
+		/* "evaluated": the newest frame; its result is "now", apart from "so_far" */
+		fprintf(out, ",\"applies\":\"%s\",\"evaluated\":%s",
 			s->reg->applies == HL_REG_PAIR_HALF ? "pair_half" : "each_lamp",
-			evaluated ? "true" : "false",
-			!evaluated			 ? "null" :
-			(f->hdr.sets_failed & (1u << i)) ? "false" :
-							   "true");
-		if (frames)
-			fprintf(out, ",\"frames\":%" PRIu64, frames[i]);
-		if (failed_frames)
-			fprintf(out, ",\"failed_frames\":%" PRIu64, failed_frames[i]);
+			evaluated ? "true" : "false");
+		if (so_far) {
+			fprintf(out, ",\"frames\":%" PRIu64 ",\"failed_frames\":%" PRIu64 ",",
+				so_far[i].sum.evaluated, so_far[i].sum.failed);
+			record_json(v, i, &so_far[i], out);
+		}
 		fputs(",\"results\":[", out);
 		for (int j = 0; evaluated && j < s->n_parts; j++) {
 			if (j)

@@ -30,6 +30,7 @@
 #include "dbc/database.h"
 #include "daemon/core/frame.h"
 #include "daemon/core/prom.h"
+#include "verdict/record.h"
 #include "verdict/regulation.h"
 #include "verdict/verdict.h"
 #include "world/camera.h"
@@ -76,6 +77,10 @@ int hl_verdicts_n_parts(const struct hl_verdicts *v, int set);
 const struct hl_verdicts_part *hl_verdicts_part(const struct hl_verdicts *v, int set, int part);
 /* The part's name: the lamp's, or "pair". */
 const char *hl_verdicts_part_name(const struct hl_verdicts *v, int set, int part);
+/* The names a record's JSON uses (verdict/record.h): set's requirement ids (n_requirements) and
+ * part names (n_parts). */
+void hl_verdicts_names(const struct hl_verdicts *v, int set, const char **ret_req_ids,
+		       const char **ret_part_names);
 /* The lamp whose cycles carry the beam mode, -1 for none. */
 int hl_verdicts_mode_lamp(const struct hl_verdicts *v);
 /*
@@ -113,11 +118,18 @@ void hl_verdicts_road_to_header(const struct hl_road_kpi *k, struct hl_frame_hea
 
 /*
  * Writes a frame's verdicts as JSON members (no braces around):
- * "verdicts":{"traffic":...,"frame":...,"mode":...,"sets":[...]},"road":{...}. failed_frames and frames: per set, the
- * counts so far (NULL: left out). Any thread, on a frame it holds.
+ * "verdicts":{"traffic":...,"frame":...,"mode":...,"sets":[...]},"road":{...}. Each set with
+ * its newest frame's results and, from so_far (NULL: left out; n_sets entries, the records of
+ * daemon/core/verdict_records.h copied by the caller), "now", "so_far", "strip" and the counts
+ * "frames" (evaluated) and "failed_frames". Any thread, on a frame it holds.
  */
-void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f, const uint64_t *frames,
-		      const uint64_t *failed_frames, FILE *out);
+struct hl_verdicts_so_far {
+	struct hl_record_summary sum;
+	const struct hl_record_cellinfo *strip;
+	size_t n_strip;
+};
+void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
+		      const struct hl_verdicts_so_far *so_far, FILE *out);
 /*
  * The metric families of a frame's verdicts and road KPIs (f NULL: no frame yet, the counters
  * only): hdlamp_verdict_pass, hdlamp_requirement_margin, hdlamp_verdict_failed_frames_total,

@@ -63,7 +63,7 @@ static char *verdict_json(const struct hl_verdicts *v, const struct hl_frame *f)
 	if (!m)
 		return NULL;
 	fprintf(m, "{\"frame\":%" PRIu64 ",", f->hdr.seq);
-	hl_verdicts_json(v, f, NULL, NULL, m);
+	hl_verdicts_json(v, f, NULL, m);
 	fputs("}\n", m);
 	if (fclose(m) != 0) {
 		free(text);

@@ -25,7 +25,8 @@ static void add(struct hl_record *r, double t, char cell, int req, int part, dou
 					   .cell = (enum hl_record_cell)cell,
 					   .req = req,
 					   .part = part,
-					   .margin = margin };
+					   .margin = margin,
+					   .mode = cell == 'n' ? 1 : 2 };
 
 	hl_record_add(r, &f);
 }
@@ -193,12 +194,18 @@ static void summary_json(struct hl_record *r, FILE *f)
 	hl_record_json_summary(&s, reqs, parts, f);
 }
 
+static const char *mode_name(const void *ud, int mode)
+{
+	(void)ud;
+	return mode == 1 ? "low" : NULL;
+}
+
 static void strip_json(struct hl_record *r, FILE *f)
 {
 	struct hl_record_cellinfo cells[8];
 	const size_t n = hl_record_strip(r, cells, 8);
 
-	hl_record_json_strip(cells, n, reqs, parts, f);
+	hl_record_json_strip(cells, n, reqs, parts, mode_name, NULL, f);
 }
 
 static void runs_json(struct hl_record *r, FILE *f)
@@ -229,7 +236,8 @@ static void record_json_names_the_fields(void **state)
 		   "\"75R\",\"part\":\"left\",\"t_s\":0.5000},\"frames_unstripped\":0}");
 	free(j);
 	j = json_of(strip_json, r);
-	assert_string_equal(j, "\"cells\":\"ffnp\",\"failing\":[[0,2,\"75R\",\"left\"]]");
+	assert_string_equal(j, "\"cells\":\"ffnp\",\"failing\":[[0,2,\"75R\",\"left\"]],"
+			       "\"modes\":[[0,2,2],[2,1,\"low\"],[3,1,2]]");
 	free(j);
 	j = json_of(runs_json, r);
 	assert_string_equal(j, "[[0.5000,2,\"f\",\"75R\",\"left\"],[1.0000,1,\"n\",null,null],"

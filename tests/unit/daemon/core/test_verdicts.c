@@ -269,11 +269,36 @@ static void texts(const struct hl_verdicts *v, const struct hl_frame *f, char *j
 		  char *prom, size_t pn)
 {
 	const uint64_t frames[2] = { 7, 7 }, failed[2] = { 3, 0 };
+	static struct hl_record_cellinfo cells[2][8];
+	struct hl_verdicts_so_far sf[2];
 	FILE *m = fmemopen(json, jn, "w");
 	struct hl_prom p;
 
+	/* the records so far: set 0 failed 3 of 7 frames (requirement 0 of the pair), then passed;
+	 * set 1 passed all 7 */
+	for (int i = 0; i < 2; i++) {
+		struct hl_record *r;
+
+		assert_int_equal(hl_record_new(8, &r), 0);
+		for (int k = 0; k < 7; k++) {
+			const bool fail = i == 0 && k < 3;
+			const struct hl_record_frame fr = { .t_s = 0.02 * k,
+							    .cell = fail ? HL_RECORD_FAIL :
+									   HL_RECORD_PASS,
+							    .req = 0,
+							    .part = 0,
+							    .margin = fail ? -0.5 : 0.25,
+							    .mode = -1 };
+
+			hl_record_add(r, &fr);
+		}
+		hl_record_summary(r, &sf[i].sum);
+		sf[i].n_strip = hl_record_strip(r, cells[i], 8);
+		sf[i].strip = cells[i];
+		hl_record_free(r);
+	}
 	assert_non_null(m);
-	hl_verdicts_json(v, f, frames, failed, m);
+	hl_verdicts_json(v, f, sf, m);
 	fputc('\0', m);
 	fclose(m);
 	hl_prom_init(&p, prom, pn);
@@ -305,21 +330,34 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	texts(v, &f, json, sizeof(json), prom, sizeof(prom));
 
 	assert_non_null(strstr(
-		json, "\"verdicts\":{\"traffic\":\"right\",\"frame\":42,\"mode\":null,\"sets\":"
+		json, "\"verdicts\":{\"traffic\":\"right\",\"frame\":42,\"mode\":null,"
+		      "\"mode_aware\":false,\"modes_configured\":false,\"sets\":"
 		      "[{\"id\":\"test-adb-glare\",\"title\":\"Test set: an "
 		      "oncoming vehicle's window at 50 m, half the pair's sum\","
-		      "\"applies\":\"pair_half\",\"evaluated\":true,\"pass\":false,"
-		      "\"frames\":7,\"failed_frames\":3,\"results\":[{\"lamp\":"
+		      "\"applies\":\"pair_half\",\"evaluated\":true,"
+		      "\"frames\":7,\"failed_frames\":3,\"now\":{\"result\":\"pass\","
+		      "\"t_s\":0.1200,\"requirement\":\"Oncoming 50 m\",\"part\":\"pair\"},"
+		      "\"so_far\":{\"result\":\"FAIL\",\"frames\":7,\"evaluated\":7,"
+		      "\"failed\":3,\"not_applicable\":0,\"longest_failing_s\":0.0600,"
+		      "\"longest_failing_from_s\":0.0000,\"worst\":{\"margin\":-0.5,"
+		      "\"requirement\":\"Oncoming 50 m\",\"part\":\"pair\",\"t_s\":0.0000},"
+		      "\"frames_unstripped\":0},\"strip\":{\"cells\":\"fffpppp\",\"failing\":"
+		      "[[0,3,\"Oncoming 50 m\",\"pair\"]],\"modes\":[[0,7,null]]},"
+		      "\"results\":[{\"lamp\":"
 		      "\"pair\",\"pass\":false,\"requirements\":[{\"id\":\"Oncoming "
 		      "50 m\",\"kind\":\"segment\",\"value_cd\":"));
 	snprintf(line, sizeof(line), "\"max_cd\":625,\"margin\":%.9g,\"pass\":false,",
 		 f.results[0].margin);
 	assert_non_null(strstr(json, line));
-	/* the other set was not evaluated on this frame: no results, pass null */
+	/* the other set was not evaluated on this frame: no results; so far it passed */
 	assert_non_null(strstr(json, "{\"id\":\"test-each-lamp\",\"title\":\"Test set: two "
 				     "requirements on each lamp\",\"applies\":\"each_lamp\","
-				     "\"evaluated\":false,\"pass\":null,\"frames\":7,"
-				     "\"failed_frames\":0,\"results\":[]}]}"));
+				     "\"evaluated\":false,\"frames\":7,"
+				     "\"failed_frames\":0,\"now\":{\"result\":\"pass\","));
+	assert_non_null(strstr(json, "\"so_far\":{\"result\":\"pass\",\"frames\":7,"
+				     "\"evaluated\":7,\"failed\":0,"));
+	assert_non_null(strstr(json, "\"cells\":\"ppppppp\",\"failing\":[],\"modes\":"
+				     "[[0,7,null]]},\"results\":[]}]}"));
 	snprintf(line, sizeof(line),
 		 ",\"road\":{\"levels_lx\":[1,3],\"width_at_m\":[25,50],\"centre_range_m\":"
 		 "[%.9g,%.9g],",
