@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The live verdict sets' records over the run (verdict/record.h; docs/verdicts.md, "Now and so
- * far"): one record per set of the daemon's verdicts, fed by the render thread with every frame
- * it evaluated, read by /status, /metrics, the live page and the run's report.
+ * The live verdict sets' records over the run (verdict/record.h; docs/verdicts.md,
+ * "Now and so far"): one record per set of the daemon's verdicts, fed by the render thread with
+ * every frame it evaluated, read by /status, the live page and the run's report.
  *
  * A frame's time on the records is the seconds since the run's first evaluated frame on the CAN
  * cycles' receive clock (the frame header's t_cycle_rx_ns: the replayed log's time, or the
