@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "can/e2e.h"
 
@@ -633,6 +634,19 @@ bool hl_assembler_stale(const struct hl_assembler *a, int lamp)
 const struct hl_dbc_signal *hl_assembler_mode_signal(const struct hl_assembler *a, int lamp)
 {
 	return lamp >= 0 && lamp < a->n_lamps ? a->lamps[lamp].mode_signal : NULL;
+}
+
+int hl_assembler_mode_value(const struct hl_assembler *a, int lamp, const char *name, int64_t *ret)
+{
+	const struct hl_dbc_signal *sg = hl_assembler_mode_signal(a, lamp);
+
+	for (int k = 0; sg && k < sg->n_values; k++) {
+		if (strcasecmp(sg->values[k].desc, name) == 0) {
+			*ret = sg->values[k].value;
+			return 0;
+		}
+	}
+	return -ENOENT;
 }
 
 const struct hl_lamp_counters *hl_assembler_lamp_counters(const struct hl_assembler *a, int lamp)

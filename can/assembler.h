@@ -151,6 +151,11 @@ int hl_assembler_ids(const struct hl_assembler *a, uint32_t *ids, int max);
 bool hl_assembler_stale(const struct hl_assembler *a, int lamp);
 /* The lamp's HdlBeamMode signal (its values name the modes), NULL for none; the database's. */
 const struct hl_dbc_signal *hl_assembler_mode_signal(const struct hl_assembler *a, int lamp);
+/*
+ * The raw value of the lamp's HdlBeamMode signal whose VAL_ description is name (any case),
+ * for hl_assembler_encode_mode. 0, -ENOENT (no such signal, or no value of that name).
+ */
+int hl_assembler_mode_value(const struct hl_assembler *a, int lamp, const char *name, int64_t *ret);
 const struct hl_lamp_counters *hl_assembler_lamp_counters(const struct hl_assembler *a, int lamp);
 const struct hl_asm_counters *hl_assembler_counters(const struct hl_assembler *a);
 

@@ -37,11 +37,15 @@ int hl_live_verdicts_new(const struct hl_config *cfg, const struct hl_assembler 
 			    reg->title);
 	}
 	if (mode.lamp >= 0)
-		hl_live_log("verdict: beam mode from signal %s of lamp '%s'%s", mode.signal->name,
-			    lamp_names[mode.lamp],
-			    cfg->verdict_modes[0] ?
-				    "" :
-				    " (verdict.modes is empty: every set on every frame)");
+		hl_live_log(
+			"verdict: beam mode from signal %s of lamp '%s'%s", mode.signal->name,
+			lamp_names[mode.lamp],
+			cfg->verdict_modes[0] ?
+				" (the sets of each mode as verdict.modes says)" :
+				" (each set in its own beam's modes; verdict.modes may say otherwise)");
+	else
+		hl_live_log("verdict: no beam-mode signal in the lamp database: every set on every "
+			    "frame");
 	*ret = v;
 	return 0;
 }

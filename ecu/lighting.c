@@ -61,6 +61,11 @@ const char *hl_ecu_mode_name(enum hl_ecu_mode mode)
 	return "?";
 }
 
+const char *hl_ecu_beam_mode_name(enum hl_ecu_mode mode)
+{
+	return mode == HL_ECU_OFF ? "unset" : hl_ecu_mode_name(mode);
+}
+
 static int check_config(const struct hl_ecu_config *c, const char **what)
 {
 	const struct hl_ecu_bend_config *b = &c->bend_config;

@@ -129,5 +129,11 @@ const struct hl_ecu_window *hl_ecu_windows_of(const struct hl_ecu *e, int lamp);
 const struct hl_ecu_rows *hl_ecu_rows_of(const struct hl_ecu *e, int lamp);
 
 const char *hl_ecu_mode_name(enum hl_ecu_mode mode);
+/*
+ * The beam the lamps show in mode, as a lamp database's HdlBeamMode signal names it
+ * (docs/dbc.md): "low" (also the fail-safe's), "high", "glarefree"; "unset" for off, which
+ * shows no beam.
+ */
+const char *hl_ecu_beam_mode_name(enum hl_ecu_mode mode);
 
 #endif

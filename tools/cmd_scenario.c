@@ -48,8 +48,20 @@ struct gen {
 	uint64_t cycles[2];
 	float *i; /* one lamp's intensities */
 	int64_t mode[2]; /* each lamp's HdlBeamMode value to send, -1: none (left 0) */
+	bool mode_given; /* --mode: no phase changes it */
 	struct hl_encoded_frame frames[2][HL_ASM_MAX_PARTS];
 };
+
+/*
+ * Each lamp's HdlBeamMode value named name (the phase's beam: low, high, glarefree, unset), -1
+ * when its DBC has no mode signal or no value of that name (the bits are left 0). --mode wins.
+ */
+static void phase_mode(struct gen *g, const char *name)
+{
+	for (int l = 0; l < 2 && !g->mode_given; l++)
+		if (hl_assembler_mode_value(g->a, l, name, &g->mode[l]) < 0)
+			g->mode[l] = -1;
+}
 
 /* Sets the values of cycle c of a section of n cycles (the fault section's patterns). */
 typedef int (*fill_fn)(const void *ud, int c, int n, struct hl_preset *p);
@@ -81,7 +93,13 @@ static void usage(FILE *f)
 		"--hold PRESET writes N cycles of one preset instead, without faults: the name of an\n"
 		"HD84 preset (low, high, glarefree, bend_left, bend_right) or a preset file\n"
 		"NAME.json of the DBC's number of sources. --mode NAME sets the lamps' HdlBeamMode\n"
-		"signal (if the DBC has one) to the value its VAL_ descriptions call NAME.\n");
+		"signal (if the DBC has one) to the value its VAL_ descriptions call NAME.\n"
+		"\n"
+		"When the DBC has an HdlBeamMode signal, every cycle says its beam by the value its\n"
+		"VAL_ descriptions name (any case; 0 bits when there is none of that name): low,\n"
+		"high, glarefree, bend_left and bend_right \"low\", the pixel drive's glare-free window\n"
+		"\"glarefree\" and its bar \"low\", the pixel ramp \"unset\"; --hold a preset name\n"
+		"without --mode says the preset's, a preset file nothing.\n");
 }
 
 static void write_frame(struct gen *g, const struct hl_encoded_frame *e)
@@ -192,18 +210,22 @@ static int run_hd84(struct gen *g, int phase)
 	if (rc < 0)
 		goto out;
 	hl_model_hd84_preset("low", lamps, p);
+	phase_mode(g, "low");
 	for (int c = 0; c < phase && rc == 0; c++)
 		rc = cycle(g, p, -1, FAULT_NONE);
 	hl_model_hd84_preset("high", lamps, p);
+	phase_mode(g, "high");
 	for (int c = 0; c < phase && rc == 0; c++)
 		rc = cycle(g, p, -1, FAULT_NONE);
+	phase_mode(g, "glarefree");
 	for (int c = 0; c < 2 * phase && rc == 0; c++) {
 		const float centre = -20.0f + 40.0f * c / (2 * phase - 1);
 
 		hl_model_hd84_glarefree(lamps, centre - 2.0f, centre + 2.0f, p);
 		rc = cycle(g, p, -1, FAULT_NONE);
 	}
-	hl_model_hd84_preset("bend_left", lamps, p);
+	hl_model_hd84_preset("bend_left", lamps, p); /* the low beam, swivelled */
+	phase_mode(g, "low");
 	for (int c = 0; c < phase && rc == 0; c++)
 		rc = cycle(g, p, -1, FAULT_NONE);
 	hl_model_hd84_preset("bend_right", lamps, p);
@@ -219,21 +241,22 @@ out:
 	return rc;
 }
 
-/* Each lamp's HdlBeamMode value named name; -ENOENT when no lamp has one by that name. */
+/* --mode: each lamp's HdlBeamMode value named name; -ENOENT when no lamp has one by that name. */
 static int set_mode(struct gen *g, const char *name)
 {
 	int found = -ENOENT;
 
-	for (int l = 0; l < 2; l++) {
-		const struct hl_dbc_signal *sg = hl_assembler_mode_signal(g->a, l);
-
-		for (int k = 0; sg && k < sg->n_values; k++)
-			if (strcmp(sg->values[k].desc, name) == 0) {
-				g->mode[l] = sg->values[k].value;
-				found = 0;
-			}
-	}
+	for (int l = 0; l < 2; l++)
+		if (hl_assembler_mode_value(g->a, l, name, &g->mode[l]) == 0)
+			found = 0;
+	g->mode_given = found == 0;
 	return found;
+}
+
+/* The beam an HD84 preset shows: a bend light is the low beam swivelled. */
+static const char *preset_mode(const char *preset)
+{
+	return strncmp(preset, "bend_", 5) == 0 ? "low" : preset;
 }
 
 /* N cycles of one preset (a name of the HD84 model's, or a file), no faults. */
@@ -261,6 +284,7 @@ static int run_hold(struct gen *g, int phase, int n_src, const char *hold)
 			rc = hl_preset_new(HL_HD84_SOURCES, &p);
 		if (rc == 0)
 			rc = hl_model_hd84_preset(hold, lamps, p);
+		phase_mode(g, preset_mode(hold));
 	} else {
 		rc = hl_preset_read(hold, &p, &perr);
 		if (rc < 0) {
@@ -306,12 +330,15 @@ static int run_pixel(struct gen *g, int phase, int n_sources)
 	if (rc == 0)
 		rc = hl_preset_new(n_sources, &p);
 	for (size_t ph = 0; ph < sizeof(phases) / sizeof(phases[0]) && rc == 0; ph++) {
+		/* a window in the high beam; a bar sweeping over the low beam */
+		phase_mode(g, phases[ph] == HL_PIXEL_GLAREFREE ? "glarefree" : "low");
 		for (int c = 0; c < 2 * phase && rc == 0; c++) {
 			rc = hl_pixel_drive(&layout, phases[ph], c, 2 * phase, p);
 			if (rc == 0)
 				rc = cycle(g, p, -1, FAULT_NONE);
 		}
 	}
+	phase_mode(g, "unset"); /* the ramp is no beam */
 	if (rc == 0)
 		rc = faults(g, p, phase, pixel_ramp, &layout);
 	hl_preset_free(p);

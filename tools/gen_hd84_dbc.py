@@ -16,6 +16,11 @@ import sys
 N_SOURCES = 95  # per lamp: 84 matrix LEDs (3 rows of 28) + 11 further sources (docs/design.md §1)
 FACTOR = repr(1 / 63)  # 0.015873015873015872: reads back as exactly the double 1/63
 LAMPS = (("L", "left", "HL_L"), ("R", "right", "HL_R"))
+# The beam mode each cycle is driven in (SG_ attribute HdlBeamMode, docs/dbc.md): 0 must mean
+# "not said", so that a log written before the signal existed (those bits zero) keeps meaning
+# every regulation set on every frame.
+MODES = ((0, "unset"), (1, "low"), (2, "high"), (3, "glarefree"))
+MODE_BITS = 6  # the slot after the last source, as wide as one
 
 HEADER = '''VERSION "hdlamp {version}"
 
@@ -50,6 +55,9 @@ BA_DEF_DEF_  "HdlLamp" "";
 BA_DEF_DEF_  "HdlE2E" "none";
 BA_DEF_DEF_  "HdlSource" 0;
 '''
+# hd84.dbc and hd84_fd.dbc only (the pixel databases carry no beam mode)
+MODE_ATTR_DEF = 'BA_DEF_ SG_  "HdlBeamMode" INT 0 1;'
+MODE_ATTR_DEF_DEF = 'BA_DEF_DEF_  "HdlBeamMode" 0;'
 
 CLASSIC_NOTE = '''hd84.dbc - the HD84 headlamp pair on classic CAN (hdlamp, docs/dbc.md).
 
@@ -67,13 +75,17 @@ Byte 1 4..7  page index 0..11, the multiplexor.
 Bytes 2..7   8 sources x 6 bits, Intel: slot j (0..7) at start bit 16 + 6 j holds source
              8 page + j + 1, signal LED_nnn with attribute HdlSource nnn.
 
+Page 11     bits 58..63: HL_Mode_L / HL_Mode_R, the beam mode of the cycle (HdlBeamMode):
+             0 unset (not said), 1 low, 2 high, 3 glarefree.
+
 A cycle is pages 0..11 in order, 12 frames per lamp, 24 per 20 ms (about 30 percent of a
-500 kbit/s bus). 12 x 8 = 96 slots carry 95 sources: the last slot (page 11, bits 58..63) is
-reserved - no signal is defined there, the ECU sends zeros and receivers ignore it.
+500 kbit/s bus). 12 x 8 = 96 slots carry 95 sources and the beam mode in the last slot (page
+11, bits 58..63). A log written before the mode signal existed has zeros there: unset.
 
 Attributes: HdlLamp (BO_, string) names the lamp of the daemon's configuration; HdlSource
-(SG_, int) is the 1-based source index, 0 for signals that carry no source; HdlE2E (BO_,
-string) is the E2E profile and data ID; GenMsgCycleTime is the cycle, 20 ms.'''
+(SG_, int) is the 1-based source index, 0 for signals that carry no source; HdlBeamMode (SG_,
+int) 1 marks the signal that tells the beam mode, its VAL_ descriptions name the modes;
+HdlE2E (BO_, string) is the E2E profile and data ID; GenMsgCycleTime is the cycle, 20 ms.'''
 
 FD_NOTE = '''hd84_fd.dbc - the HD84 headlamp pair on CAN FD (hdlamp, docs/dbc.md).
 
@@ -88,18 +100,43 @@ Byte 2       counter 0..255, one step per cycle; A and B of one cycle carry the 
              which is how a receiver pairs them.
 Bytes 3..    the sources, 6 bits each, Intel: source k of the frame at start bit 24 + 6 (k - 1).
              A: 80 x 6 = 480 bits end at bit 503, byte 63 is reserved (zero).
-             B: 15 x 6 = 90 bits end at bit 113, bits 114..127 are reserved (zero).
+             B: 15 x 6 = 90 bits end at bit 113.
+B 114..119   HL_Mode_L / HL_Mode_R, the beam mode of the cycle (HdlBeamMode): 0 unset (not
+             said), 1 low, 2 high, 3 glarefree. Bits 120..127 of B are reserved (zero).
 
 E2E: AUTOSAR profile 5, not a profile 2 style CRC-8. With 64-byte payloads an 8-bit CRC is
 too weak: the CRC8H2F polynomial keeps Hamming distance 4 only up to 119 data bits and every
 CRC-8 lets 1 in 256 random corruptions through, while CRC-16/CCITT keeps Hamming distance 4 up
 to 32751 bits and lets 1 in 65536 through. Profile 5 is the profile AUTOSAR defines for such
 frames (static data ID, not sent; 8-bit counter), and two bytes of CRC are cheap in a 64-byte
-frame.'''
+frame.
+
+Attributes as hd84.dbc: HdlLamp, HdlSource, HdlBeamMode, HdlE2E, GenMsgCycleTime.'''
 
 
 def source_attrs(msg_id, names_first, digits=3):
     return [f'BA_ "HdlSource" SG_ {msg_id} LED_{k:0{digits}d} {k};' for k in names_first]
+
+
+def mode_signal(suffix, node, start, mux=""):
+    """The beam-mode signal of a lamp (the SG_ line) and its VAL_ line's descriptions."""
+    sg = f' SG_ HL_Mode_{suffix}{mux} : {start}|{MODE_BITS}@1+ (1,0) [0|{MODES[-1][0]}] "" {node}'
+    return sg, " ".join(f'{v} "{name}"' for v, name in MODES)
+
+
+def mode_lines(msg_id, suffix, where):
+    cm = f'CM_ SG_ {msg_id} HL_Mode_{suffix} "Beam mode of the cycle ({where}): 0 unset (not said), 1 low, 2 high, 3 glarefree.";'
+    ba = f'BA_ "HdlBeamMode" SG_ {msg_id} HL_Mode_{suffix} 1;'
+    return cm, ba
+
+
+def attr_defs():
+    """ATTR_DEFS with HdlBeamMode's definition and default beside HdlSource's."""
+    lines = ATTR_DEFS.rstrip("\n").split("\n")
+    at = lines.index('BA_DEF_ SG_  "HdlSource" INT 0 4096;') + 1
+    lines.insert(at, MODE_ATTR_DEF)
+    lines.append(MODE_ATTR_DEF_DEF)
+    return "\n".join(lines)
 
 
 def classic():
@@ -114,22 +151,30 @@ def classic():
         for k in range(1, N_SOURCES + 1):
             page, slot = divmod(k - 1, 8)
             out.append(f' SG_ LED_{k:03d} m{page} : {16 + 6 * slot}|6@1+ ({FACTOR},0) [0|1] "" {node}')
+        # the slot after the last source: page 11, slot 7
+        page, slot = divmod(N_SOURCES, 8)
+        sg, modes = mode_signal(suffix, node, 16 + 6 * slot, f" m{page}")
+        out.append(sg)
         out.append("")
         cm.append(f'CM_ BO_ {msg_id} "Dimming of the {lamp} lamp: page HL_Page_{suffix} carries sources 8 page + 1 .. 8 page + 8.";')
         cm.append(f'CM_ SG_ {msg_id} HL_CRC_{suffix} "CRC-8 SAE J1850 over data ID (low, high) and bytes 1..7 (E2E P1 layout).";')
         cm.append(f'CM_ SG_ {msg_id} HL_Alive_{suffix} "Alive counter 0..14, +1 per cycle (all pages of a cycle carry it), wraps to 0.";')
         cm.append(f'CM_ SG_ {msg_id} HL_Page_{suffix} "Page 0..11: which 8 sources bytes 2..7 carry.";')
+        mode_cm, mode_ba = mode_lines(msg_id, suffix, f"page {page}, bits {16 + 6 * slot}..{16 + 6 * slot + MODE_BITS - 1}")
+        cm.append(mode_cm)
         ba.append(f'BA_ "GenMsgCycleTime" BO_ {msg_id} 20;')
         ba.append(f'BA_ "VFrameFormat" BO_ {msg_id} 0;')
         ba.append(f'BA_ "HdlLamp" BO_ {msg_id} "{lamp}";')
         ba.append(f'BA_ "HdlE2E" BO_ {msg_id} "P1 dataid=0x{msg_id:04X}";')
         ba.extend(source_attrs(msg_id, range(1, N_SOURCES + 1)))
+        ba.append(mode_ba)
         pages = " ".join(f'{p} "sources {8 * p + 1}-{min(8 * p + 8, N_SOURCES)}"' for p in range(12))
         val.append(f"VAL_ {msg_id} HL_Page_{suffix} {pages} ;")
+        val.append(f"VAL_ {msg_id} HL_Mode_{suffix} {modes} ;")
     out.append("")
     out.append(f'CM_ "{CLASSIC_NOTE}";')
     out.extend(cm)
-    out.append(ATTR_DEFS.rstrip("\n"))
+    out.append(attr_defs())
     out.append('BA_ "BusType" "CAN";')
     out.extend(ba)
     out.extend(val)
@@ -138,7 +183,7 @@ def classic():
 
 def fd():
     out = [HEADER.format(version="HD84 FD 1.0")]
-    ba, cm = [], []
+    ba, cm, val = [], [], []
     for i, (suffix, lamp, node) in enumerate(LAMPS):
         for part, (size, first, last) in zip("AB", ((64, 1, 80), (16, 81, N_SOURCES))):
             msg_id = 0x330 + 2 * i + (part == "B")
@@ -148,6 +193,10 @@ def fd():
             out.append(f' SG_ HL_Counter_{part}_{suffix} : 16|8@1+ (1,0) [0|255] "" {node}')
             for k in range(first, last + 1):
                 out.append(f' SG_ LED_{k:03d} : {24 + 6 * (k - first)}|6@1+ ({FACTOR},0) [0|1] "" {node}')
+            if part == "B":  # the slot after the last source
+                mode_start = 24 + 6 * (last - first + 1)
+                sg, modes = mode_signal(suffix, node, mode_start)
+                out.append(sg)
             out.append("")
             cm.append(f'CM_ BO_ {msg_id} "Dimming of the {lamp} lamp, sources {first}..{last} ({size}-byte CAN FD frame {part} of 2).";')
             cm.append(f'CM_ SG_ {msg_id} HL_CRC_{part}_{suffix} "CRC-16/CCITT-FALSE over bytes 2..{size - 1} and the data ID (E2E P5), little endian.";')
@@ -157,12 +206,18 @@ def fd():
             ba.append(f'BA_ "HdlLamp" BO_ {msg_id} "{lamp}";')
             ba.append(f'BA_ "HdlE2E" BO_ {msg_id} "P5 dataid=0x{msg_id:04X}";')
             ba.extend(source_attrs(msg_id, range(first, last + 1)))
+            if part == "B":
+                mode_cm, mode_ba = mode_lines(msg_id, suffix, f"bits {mode_start}..{mode_start + MODE_BITS - 1}")
+                cm.append(mode_cm)
+                ba.append(mode_ba)
+                val.append(f"VAL_ {msg_id} HL_Mode_{suffix} {modes} ;")
     out.append("")
     out.append(f'CM_ "{FD_NOTE}";')
     out.extend(cm)
-    out.append(ATTR_DEFS.rstrip("\n"))
+    out.append(attr_defs())
     out.append('BA_ "BusType" "CAN FD";')
     out.extend(ba)
+    out.extend(val)
     return "\n".join(out) + "\n"
 
 

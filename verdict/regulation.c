@@ -427,9 +427,8 @@ static int parse_aim(const struct ctx *c, struct hl_regulation *reg, json_t *j)
 int hl_regulation_parse(const char *text, const char *name, struct hl_regulation **ret,
 			struct hl_regulation_error *err)
 {
-	static const char *const keys[] = { "id",	  "title",	  "source",
-					    "applies_to", "angles",	  "receiver",
-					    "aim",	  "requirements", NULL };
+	static const char *const keys[] = { "id",     "title",	  "source", "applies_to",   "beam",
+					    "angles", "receiver", "aim",    "requirements", NULL };
 	const struct ctx c = { .name = name, .text = text, .err = err };
 	struct hl_regulation *reg;
 	json_error_t jerr;
@@ -473,6 +472,17 @@ int hl_regulation_parse(const char *text, const char *name, struct hl_regulation
 	} else {
 		fail(&c, line_of(&c, "\"applies_to\""),
 		     "'applies_to': expected \"each_lamp\" or \"pair_half\"");
+		goto err_free;
+	}
+	j = json_object_get(root, "beam");
+	reg->beam = HL_REG_BEAM_NONE;
+	for (int b = HL_REG_BEAM_PASSING; j && b <= HL_REG_BEAM_ADB; b++)
+		if (json_is_string(j) && !strcmp(json_string_value(j), hl_reg_beam_name(b)))
+			reg->beam = (enum hl_reg_beam)b;
+	if (j && reg->beam == HL_REG_BEAM_NONE) {
+		fail(&c, line_of(&c, "\"beam\""),
+		     "'beam': expected \"passing\", \"driving\" or \"adb\" (or no 'beam': every "
+		     "mode)");
 		goto err_free;
 	}
 	j = json_object_get(root, "angles");
@@ -690,4 +700,11 @@ const char *hl_req_kind_name(enum hl_req_kind kind)
 	static const char *const names[] = { "point", "segment", "zone", "sum", "imax" };
 
 	return (unsigned)kind < 5 ? names[kind] : "?";
+}
+
+const char *hl_reg_beam_name(enum hl_reg_beam beam)
+{
+	static const char *const names[] = { NULL, "passing", "driving", "adb" };
+
+	return (unsigned)beam < sizeof(names) / sizeof(names[0]) ? names[beam] : NULL;
 }

@@ -47,6 +47,17 @@ enum hl_receiver_shape {
 	HL_RECEIVER_CIRCLE, /* diameter size_deg */
 };
 
+/*
+ * The beam a set is written for (its optional key "beam"): with a beam-mode signal in the
+ * lamps' database the daemon checks it only on frames of that beam (docs/live-verdicts.md).
+ */
+enum hl_reg_beam {
+	HL_REG_BEAM_NONE, /* no "beam": the set applies in every mode */
+	HL_REG_BEAM_PASSING, /* "passing": the low beam */
+	HL_REG_BEAM_DRIVING, /* "driving": the high beam */
+	HL_REG_BEAM_ADB, /* "adb": the adaptive (glare-free) driving beam */
+};
+
 /* How the regulation aims a beam before measuring (used with --aim regulation). */
 enum hl_reg_aim {
 	HL_REG_AIM_NONE, /* measured as mounted (driving beams, ADB glare limits) */
@@ -80,6 +91,7 @@ struct hl_regulation {
 	char title[HL_REG_TEXT_MAX];
 	char source[HL_REG_TEXT_MAX]; /* the document the set comes from */
 	enum hl_reg_applies applies;
+	enum hl_reg_beam beam;
 	enum hl_angles angles; /* the goniometer system the angles are given in */
 	enum hl_receiver_shape receiver;
 	double receiver_deg; /* square side or circle diameter */
@@ -135,6 +147,8 @@ void hl_regulation_list_free(char **ids);
 int hl_regulation_find(const struct hl_regulation *reg, const char *id);
 
 const char *hl_req_kind_name(enum hl_req_kind kind);
+/* "passing", "driving", "adb", or NULL for HL_REG_BEAM_NONE (as the files write them). */
+const char *hl_reg_beam_name(enum hl_reg_beam beam);
 
 /*
  * Parses an angle as the files write it: "3.43L", "0.57U", "V", "H", "L"/"R"/"U"/"D" (open

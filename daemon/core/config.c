@@ -127,7 +127,8 @@ static const struct key keys[] = {
 	  "right | left: left-hand traffic mirrors the sets' H", NULL },
 	{ "verdict", "modes", MODES, F(verdict_modes), 0, 0,
 	  "MODE:ID+ID,...: the sets evaluated in each beam mode (the DBC's HdlBeamMode signal's "
-	  "VAL_ names); empty = every set on every frame",
+	  "VAL_ names); empty = by the sets' beams (low/passing, high/driving, glarefree/adb), "
+	  "every set without a mode signal",
 	  NULL },
 	{ "road", "levels", PAIR, F(road_levels_lx), 0.01, 1000,
 	  "illuminance levels (lx) of the road ranges, two, comma separated", NULL },

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 struct set {
 	struct hl_regulation *reg;
@@ -25,10 +26,13 @@ struct hl_verdicts {
 	struct set sets[HL_VERDICTS_MAX_SETS];
 	struct hl_road_kpi_options road_opts;
 	struct hl_road_kpi_plan *road;
-	/* beam modes: the signal's named values and the sets of each (verdict.modes) */
+	/* beam modes: the signal's named values and the sets of each (verdict.modes, or by the
+	 * sets' beams when it is empty) */
 	int mode_lamp; /* -1: no mode signal */
 	const struct hl_dbc_signal *mode_signal;
-	bool by_mode; /* verdict.modes given */
+	bool by_mode; /* a mode signal: the sets follow the mode */
+	bool explicit_modes; /* verdict.modes given: it says which sets each mode has */
+	uint32_t unnamed; /* the sets of a value without a VAL_ name */
 	int n_modes;
 	struct {
 		int64_t raw;
@@ -130,6 +134,45 @@ static uint32_t set_bit(const struct hl_verdicts *v, const char *id, size_t len)
 	return 0;
 }
 
+/*
+ * The beam a mode's VAL_ name means (docs/live-verdicts.md, "Beam modes"), any case; NONE for
+ * a name outside that vocabulary ("unset").
+ */
+static enum hl_reg_beam beam_of_mode(const char *name)
+{
+	static const struct {
+		const char *name;
+		enum hl_reg_beam beam;
+	} words[] = {
+		{ "low", HL_REG_BEAM_PASSING },	  { "passing", HL_REG_BEAM_PASSING },
+		{ "high", HL_REG_BEAM_DRIVING },  { "driving", HL_REG_BEAM_DRIVING },
+		{ "glarefree", HL_REG_BEAM_ADB }, { "adb", HL_REG_BEAM_ADB },
+	};
+
+	for (size_t k = 0; name && k < sizeof(words) / sizeof(words[0]); k++)
+		if (strcasecmp(name, words[k].name) == 0)
+			return words[k].beam;
+	return HL_REG_BEAM_NONE;
+}
+
+/* Without verdict.modes: each set in the modes of its beam, a set without one in every mode. */
+static void default_modes(struct hl_verdicts *v)
+{
+	const uint32_t all = v->n_sets ? (uint32_t)((1ull << v->n_sets) - 1) : 0;
+
+	v->by_mode = true;
+	v->unnamed = all;
+	for (int m = 0; m < v->n_modes; m++) {
+		const enum hl_reg_beam beam = beam_of_mode(v->mode_signal->values[m].desc);
+
+		v->modes[m].sets = beam == HL_REG_BEAM_NONE ? all : 0;
+		for (int i = 0; beam != HL_REG_BEAM_NONE && i < v->n_sets; i++)
+			if (v->sets[i].reg->beam == beam ||
+			    v->sets[i].reg->beam == HL_REG_BEAM_NONE)
+				v->modes[m].sets |= 1u << i;
+	}
+}
+
 /* verdict.modes against the mode signal's VAL_ names and the sets. */
 static int plan_modes(struct hl_verdicts *v, const char *text, char *err, size_t err_size)
 {
@@ -143,8 +186,11 @@ static int plan_modes(struct hl_verdicts *v, const char *text, char *err, size_t
 	}
 	for (int k = 0; sg && k < sg->n_values; k++)
 		v->modes[v->n_modes++].raw = sg->values[k].value;
-	if (!*text)
+	if (!*text) {
+		if (sg)
+			default_modes(v);
 		return 0;
+	}
 	if (!sg) {
 		snprintf(
 			err, err_size,
@@ -153,6 +199,8 @@ static int plan_modes(struct hl_verdicts *v, const char *text, char *err, size_t
 		return -EINVAL;
 	}
 	v->by_mode = true;
+	v->explicit_modes = true;
+	v->unnamed = 0;
 	while (*entry) {
 		const char *colon = strchr(entry, ':'), *end = strchr(entry, ',');
 		size_t name_len;
@@ -324,7 +372,17 @@ uint32_t hl_verdicts_active(const struct hl_verdicts *v, int64_t mode)
 	for (int m = 0; m < v->n_modes; m++)
 		if (v->modes[m].raw == mode)
 			return v->modes[m].sets;
-	return 0;
+	return v->unnamed;
+}
+
+bool hl_verdicts_mode_aware(const struct hl_verdicts *v)
+{
+	return v->by_mode;
+}
+
+const char *hl_verdicts_set_beam(const struct hl_verdicts *v, int set)
+{
+	return hl_reg_beam_name(v->sets[set].reg->beam);
 }
 
 const char *hl_verdicts_mode_name(const struct hl_verdicts *v, int64_t mode)
@@ -496,10 +554,10 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
 		hl_json_write_str(out, hl_verdicts_mode_name(v, f->beam_mode));
 	else
 		fprintf(out, "%" PRId64, f->beam_mode);
-	/* how the sets are applied: each in its beam mode (a mode signal), or every set on every
-	 * frame (none); verdict.modes, when given, says which sets each mode has */
+	/* how the sets are applied: each in its beam's modes (a mode signal), or every set on
+	 * every frame (none); modes_configured: verdict.modes says which sets each mode has */
 	fprintf(out, ",\"mode_aware\":%s,\"modes_configured\":%s,\"sets\":[",
-		v->mode_lamp >= 0 ? "true" : "false", v->by_mode ? "true" : "false");
+		v->by_mode ? "true" : "false", v->explicit_modes ? "true" : "false");
 	for (int i = 0; i < v->n_sets; i++) {
 		const struct set *s = &v->sets[i];
 		const bool evaluated = f && (f->hdr.sets_evaluated & (1u << i));
@@ -508,10 +566,14 @@ void hl_verdicts_json(const struct hl_verdicts *v, const struct hl_frame *f,
 		hl_json_write_str(out, s->reg->id);
 		fputs(",\"title\":", out);
 		hl_json_write_str(out, s->reg->title);
+		fprintf(out, ",\"applies\":\"%s\",\"beam\":",
+			s->reg->applies == HL_REG_PAIR_HALF ? "pair_half" : "each_lamp");
+		if (hl_reg_beam_name(s->reg->beam))
+			fprintf(out, "\"%s\"", hl_reg_beam_name(s->reg->beam));
+		else
+			fputs("null", out);
 		/* "evaluated": the newest frame; its result is "now", apart from "so_far" */
-		fprintf(out, ",\"applies\":\"%s\",\"evaluated\":%s",
-			s->reg->applies == HL_REG_PAIR_HALF ? "pair_half" : "each_lamp",
-			evaluated ? "true" : "false");
+		fprintf(out, ",\"evaluated\":%s", evaluated ? "true" : "false");
 		if (so_far) {
 			fprintf(out, ",\"frames\":%" PRIu64 ",\"failed_frames\":%" PRIu64 ",",
 				so_far[i].sum.evaluated, so_far[i].sum.failed);

@@ -85,10 +85,18 @@ void hl_verdicts_names(const struct hl_verdicts *v, int set, const char **ret_re
 int hl_verdicts_mode_lamp(const struct hl_verdicts *v);
 /*
  * The sets evaluated in beam mode mode (a raw value of the mode signal; -1: unknown, no signal
- * or no cycle yet): every set without verdict.modes or when unknown; else the sets
- * verdict.modes names for the mode's VAL_ name (none for a mode it does not name).
+ * or no cycle yet): every set without a mode signal or when unknown. With verdict.modes, the
+ * sets it names for the mode's VAL_ name (none for a mode or value it does not name). Without
+ * verdict.modes, by the sets' beams (hl_regulation.beam): a mode named low or passing has the
+ * passing sets, high or driving the driving sets, glarefree or adb the ADB sets (any case),
+ * each with the sets that have no beam; any other name ("unset") or a value without a name has
+ * every set.
  */
 uint32_t hl_verdicts_active(const struct hl_verdicts *v, int64_t mode);
+/* Whether the sets follow the beam mode; false: every set on every frame (no mode signal). */
+bool hl_verdicts_mode_aware(const struct hl_verdicts *v);
+/* The set's beam as its file writes it ("passing", "driving", "adb"), NULL for none. */
+const char *hl_verdicts_set_beam(const struct hl_verdicts *v, int set);
 /* The mode's VAL_ name, or NULL (unknown, or a value without a description). */
 const char *hl_verdicts_mode_name(const struct hl_verdicts *v, int64_t mode);
 /* The road KPIs' levels and widths (what the header's floats are of). */
@@ -118,8 +126,9 @@ void hl_verdicts_road_to_header(const struct hl_road_kpi *k, struct hl_frame_hea
 
 /*
  * Writes a frame's verdicts as JSON members (no braces around):
- * "verdicts":{"traffic":...,"frame":...,"mode":...,"sets":[...]},"road":{...}. Each set with
- * its newest frame's results and, from so_far (NULL: left out; n_sets entries, the records of
+ * "verdicts":{"traffic":...,"frame":...,"mode":...,"mode_aware":...,"modes_configured":...,
+ * "sets":[...]},"road":{...}. Each set ("id", "title", "applies", "beam", "evaluated": on the
+ * newest frame, "results") with, from so_far (NULL: left out; n_sets entries, the records of
  * daemon/core/verdict_records.h copied by the caller), "now", "so_far", "strip" and the counts
  * "frames" (evaluated) and "failed_frames". Any thread, on a frame it holds.
  */

@@ -26,12 +26,15 @@ def decode(dbc, lines):
     return [json.loads(l) for l in p.stdout.splitlines()]
 
 
-@pytest.mark.parametrize("path,messages,profile", [
-    (HD84, {"HL_Dim_L": 0x320, "HL_Dim_R": 0x321}, "P1"),
-    (HD84_FD, {"HL_DimA_L": 0x330, "HL_DimB_L": 0x331, "HL_DimA_R": 0x332, "HL_DimB_R": 0x333}, "P5"),
+@pytest.mark.parametrize("path,messages,profile,mode_msgs,mode_layout", [
+    (HD84, {"HL_Dim_L": 0x320, "HL_Dim_R": 0x321}, "P1", {"HL_Dim_L", "HL_Dim_R"}, "58|6@1+"),
+    (HD84_FD, {"HL_DimA_L": 0x330, "HL_DimB_L": 0x331, "HL_DimA_R": 0x332, "HL_DimB_R": 0x333}, "P5",
+     {"HL_DimB_L", "HL_DimB_R"}, "114|6@1+"),
 ])
-def test_info_shows_every_attribute_the_daemon_needs(path, messages, profile):
+def test_info_shows_every_attribute_the_daemon_needs(path, messages, profile, mode_msgs,
+                                                     mode_layout):
     out = run("info", path).stdout
+    assert '  SG_     HdlBeamMode          INT [0, 1] default 0\n' in out
     blocks = re.split(r"\n(?=message )", out)
     seen = {}
     for b in blocks[1:]:
@@ -45,6 +48,18 @@ def test_info_shows_every_attribute_the_daemon_needs(path, messages, profile):
         assert "  GenMsgCycleTime=20\n" in b
         sources = [int(s) for s in re.findall(r"HdlSource=(\d+)\n", b)]
         seen[name] = sorted(s for s in sources if s)
+        # the beam mode: one signal per lamp, in the slot after the last source, VAL_ named
+        modes = re.findall(r"\n    (HL_Mode_[LR]) +(\S+) .*\n(?:        .*\n)*?        HdlBeamMode=1\n"
+                           r"        values: (.*)\n", b)
+        if name in mode_msgs:
+            assert modes == [(f"HL_Mode_{name[-1]}", mode_layout,
+                              '0="unset" 1="low" 2="high" 3="glarefree"')], b[-600:]
+        else:
+            assert modes == [] and "HdlBeamMode=1" not in b
+        # every other signal (each shows its HdlSource) has the default, no mode
+        n_signals = {"HL_Dim_L": 3 + 95 + 1, "HL_DimA_L": 2 + 80, "HL_DimB_L": 2 + 15 + 1}
+        assert b.count("\n        HdlSource=") == n_signals[name[:-1] + "L"]
+        assert b.count("HdlBeamMode=0 (default)") == n_signals[name[:-1] + "L"] - len(modes)
     assert set(seen) == set(messages)
     for lamp in "LR":
         got = sorted(s for n, v in seen.items() if n.endswith(lamp) for s in v)
@@ -52,6 +67,8 @@ def test_info_shows_every_attribute_the_daemon_needs(path, messages, profile):
     if profile == "P1":
         assert "HL_Page_L            M" in out
         assert "present when HL_Page_L=11" in out
+        assert re.search(r"HL_Mode_L +58\|6@1\+ +\(1,0\) \[0\|3\] \"\" -> HL_L\n"
+                         r"        present when HL_Page_L=11\n", out)
 
 
 def classic_cycle(values, counter0=0):

@@ -137,3 +137,50 @@ def test_drive_generator_still_works(hdlamp, tmp_path):
     assert len(log.read_text().splitlines()) == 2 * 2 * 12  # 2 cycles, 2 lamps, 12 pages
     r = run(hdlamp, "scenario", "--help")
     assert "hdlamp scenario validate FILE..." in r.stdout
+
+
+def modes_in_log(hdlamp, dbc, log):
+    """Each lamp's HL_Mode_x values in the log's order, decoded with hdlamp dbc decode."""
+    out = run(hdlamp, "dbc", "decode", "--dbc", dbc, log).stdout
+    got = {"L": [], "R": []}
+    for line in out.splitlines():
+        sig = json.loads(line)["signals"]
+        for lamp in got:
+            if f"HL_Mode_{lamp}" in sig:
+                got[lamp].append(sig[f"HL_Mode_{lamp}"])
+    return got
+
+
+# the shipped databases' VAL_ of HL_Mode_L / HL_Mode_R
+UNSET, LOW, HIGH, GLAREFREE = 0, 1, 2, 3
+
+
+def test_drive_says_each_phases_beam_mode(hdlamp, tmp_path):
+    # hdlamp scenario's HD84 drive: N low, N high, 2N glare-free, N bend left, N bend right
+    # (the low beam turned), the 6 cycles of the faults and N more of low beam; every cycle
+    # carries its mode in the lamps' HdlBeamMode signal (the CRC and missing-frame faults hit
+    # other pages or frame A, so every mode-carrying frame is there)
+    n = 3
+    want = [LOW] * n + [HIGH] * n + [GLAREFREE] * 2 * n + [LOW] * 2 * n + [LOW] * (6 + n)
+    for dbc in ("hd84.dbc", "hd84_fd.dbc"):
+        path = os.path.join(SRC, "dbc", dbc)
+        log = str(tmp_path / f"{dbc}.log")
+        run(hdlamp, "scenario", "--dbc", path, "--out", log, "--phase-cycles", n)
+        assert modes_in_log(hdlamp, path, log) == {"L": want, "R": want}, dbc
+
+
+def test_hold_says_the_presets_beam_mode(hdlamp, tmp_path):
+    path = os.path.join(SRC, "dbc", "hd84.dbc")
+    for preset, mode, want in (("low", None, LOW), ("high", None, HIGH),
+                               ("glarefree", None, GLAREFREE), ("bend_left", None, LOW),
+                               ("bend_right", None, LOW), ("high", "glarefree", GLAREFREE),
+                               ("high", "UNSET", UNSET)):
+        log = str(tmp_path / f"{preset}-{mode}.log")
+        run(hdlamp, "scenario", "--dbc", path, "--out", log, "--hold", preset,
+            "--phase-cycles", 4, *(["--mode", mode] if mode else []))
+        assert modes_in_log(hdlamp, path, log) == {"L": [want] * 4, "R": [want] * 4}, \
+            (preset, mode)
+    # a mode no VAL_ names is refused (exit 1), as before
+    r = run(hdlamp, "scenario", "--dbc", path, "--out", str(tmp_path / "x.log"), "--hold",
+            "high", "--mode", "dipped", ok=False)
+    assert r.returncode == 1 and "--mode 'dipped'" in r.stderr, r.stderr

@@ -44,8 +44,8 @@ def hold_log(hdlamp, out_dir, preset, cycles=25, dbc=dbc_path("hd84.dbc"), mode=
 class Daemon:
     """hdlampd replaying a log in a loop, with the stream and HTTP on free ports."""
 
-    def __init__(self, lamps, log, *args, sets=SETS, dbc=dbc_path("hd84.dbc")):
-        cmd = [HDLAMPD, "--replay", log, "--loop", "--dbc", dbc,
+    def __init__(self, lamps, log, *args, sets=SETS, dbc=dbc_path("hd84.dbc"), loop=True):
+        cmd = [HDLAMPD, "--replay", log, *(["--loop"] if loop else []), "--dbc", dbc,
                "--set", f"lamps.left={lamps}/hd84_left.lid.exr",
                "--set", f"lamps.right={lamps}/hd84_right.lid.exr",
                "--set", "render.size=160x90", "--set", "stream.tcp=127.0.0.1:0",
@@ -75,11 +75,11 @@ class Daemon:
                 for name, fam in parse(self.get("/metrics")).items()}
 
     def wait_frames(self, n, timeout=60):
-        """/metrics once the set was evaluated on n frames (an event, not a duration)."""
+        """/metrics once n frames were published (an event, not a duration)."""
         until = time.monotonic() + timeout
         while True:
             m = self.metrics()
-            if m.get("hdlamp_verdict_frames_total", {}).get(f'set="{ADB}"', 0) >= n:
+            if m.get("hdlamp_frames_total", {}).get("", 0) >= n:
                 return m
             assert time.monotonic() < until, "the verdicts did not count frames"
             time.sleep(0.1)
@@ -113,7 +113,9 @@ def requirement(part, req_id):
 @pytest.mark.parametrize("preset", ["glarefree", "high"])
 def test_glarefree_passes_the_oncoming_window_that_high_beam_glares_into(hdlamp, lamps, tmp_path,
                                                                         preset):
-    log = hold_log(hdlamp, str(tmp_path), preset)
+    # mode "unset": the ECU does not say its beam, so both sets are checked on every frame
+    # (a said mode would pick the set of its beam: test_default_modes_*)
+    log = hold_log(hdlamp, str(tmp_path), preset, mode="unset")
     d = Daemon(lamps, log, "--set", "http.capture=true", "--set",
                f"capture.dir={tmp_path}/captures")
     try:
@@ -210,7 +212,9 @@ def test_glarefree_passes_the_oncoming_window_that_high_beam_glares_into(hdlamp,
 def test_drive_scenario_fails_the_glare_table_in_its_high_beam_phase(hdlamp, lamps, tmp_path):
     # the drive: low beam, high beam, the glare-free window sweeping, bends, faults, low beam
     log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), str(tmp_path), phase=5)
-    d = Daemon(lamps, log, sets=ADB)
+    # the ADB glare table in every beam mode the drive says, not only in its own (glarefree)
+    d = Daemon(lamps, log, "--set",
+               f"verdict.modes=unset:{ADB},low:{ADB},high:{ADB},glarefree:{ADB}", sets=ADB)
     try:
         until = time.monotonic() + 60
         while True:
@@ -285,3 +289,165 @@ def test_beam_mode_signal_picks_the_sets(hdlamp, lamps, tmp_path, preset, mode, 
     assert (f'set="{DRIVING}",lamp="left"' in passes) is bool(evaluated & 2)
     if mode == "glarefree":
         assert m["hdlamp_requirement_margin"][ONCOMING] > 0
+
+
+# ---- the beam mode of the shipped databases picks the sets (docs/live-verdicts.md, "Beam modes")
+
+PASSING = "unece-r149-01-passing-c"
+MODE_SETS = f"{PASSING},{DRIVING}"  # bit 0 passing, bit 1 driving
+PHASE = 5
+
+
+def drive_log(hdlamp, dbc, out_dir):
+    """hdlamp scenario's HD84 drive (N low, N high, 2N glare-free, N bend left, N bend right,
+    the faults, N low) after 2 s in which only a frame of another ID is on the bus, so that a
+    stream client connects before the first cycle, and before 3 s more of that frame alone (the
+    lamps time out: their fail-safe frames, then nothing until the replay's last frame). Returns the log and the beam mode names of
+    the left lamp's complete cycles in order (decoded from the log; the CRC fault makes the
+    first cycle of the fault section incomplete), or None per cycle for a DBC without modes."""
+    drive = os.path.join(out_dir, "drive.log")
+    run(hdlamp, "scenario", "--dbc", dbc, "--out", drive, "--phase-cycles", PHASE,
+        "--start", "1700000002")
+    log = os.path.join(out_dir, "quiet-then-drive.log")
+    with open(drive) as d:
+        text = d.read()
+    t_end = float(text.splitlines()[-1].split(")")[0][1:])
+    with open(log, "w") as f:
+        f.write(f"(1700000000.000000) can0 7FF#00\n{text}({t_end + 3:.6f}) can0 7FF#00\n")
+    names = {}
+    modes = []
+    for line in run(hdlamp, "dbc", "decode", "--dbc", dbc, drive).stdout.splitlines():
+        fr = json.loads(line)
+        # the frame of each cycle that carries the mode: page 11, frame B
+        if (fr["name"] == "HL_Dim_L" and fr["signals"]["HL_Page_L"] == 11 or
+                fr["name"] == "HL_DimB_L") and fr["e2e"] != "crc":
+            modes.append(fr["signals"].get("HL_Mode_L"))
+    if "HL_Mode_L" in open(dbc).read():
+        names = dict(re.findall(r'(\d+) "(\w+)"', re.search(r"VAL_ \d+ HL_Mode_L (.*);",
+                                                           open(dbc).read()).group(1)))
+    modes = [names.get(str(m)) if m is not None else None for m in modes]
+    n = PHASE
+    assert len(modes) == 7 * n + 6
+    del modes[6 * n]  # the CRC error: that cycle of the left lamp never completes
+    return log, modes
+
+
+def every_frame(d, n_cycles):
+    """Every frame header the daemon publishes, from the first (seq 1) to the end of the replay
+    (without --loop the daemon then exits), /status once both lamps timed out after the left
+    lamp's last cycle (the daemon idles then: no cycle, no frame until the log's last line) and
+    how many frames it had seen by then. Checked: contiguous, from the first."""
+    s = connect(d.stream_port)
+    hs = []
+    status = None
+    while True:
+        f = read_frame(s)
+        if f is None:
+            break
+        hs.append(f[0])
+        if status is None and hs[-1]["cycle_seq_left"] == n_cycles and \
+                hs[-1]["flags"] & 0b1010 == 0b1010:
+            status = json.loads(d.get("/status"))
+            n_at_status = len(hs)
+    s.close()
+    assert status is not None, hs[-3:]
+    assert hs[0]["seq"] == 1 or hs[0]["cycle_seq_left"] == 0, hs[:1]
+    if [h["seq"] for h in hs] != list(range(hs[0]["seq"], hs[0]["seq"] + len(hs))):
+        return None  # the client fell behind and the stream skipped a frame (a loaded host)
+    assert status["frames"]["published"] == n_at_status + hs[0]["seq"] - 1
+    return hs, status, n_at_status
+
+
+def run_drive(lamps, log, modes, *args, dbc):
+    """The drive replayed once with the passing and driving sets: every frame header, /status
+    and the exit status line. Small frames, so that the stream client keeps up; a run in which
+    it did not (a skipped frame) is repeated, at most three times."""
+    for attempt in range(3):
+        d = Daemon(lamps, log, "--set", "render.size=32x18", *args, sets=MODE_SETS, dbc=dbc,
+                   loop=False)
+        try:
+            seen = every_frame(d, len(modes))
+        finally:
+            summary = d.stop()
+        if seen:
+            break
+        print(f"attempt {attempt + 1}: the stream skipped a frame")
+    assert seen, "the stream skipped frames in every attempt"
+    hs, status, n_at_status = seen
+    # every frame the daemon made was published and seen by the stream client
+    assert summary["frames"]["not_published"] == status["frames"]["not_published"] == 0
+    assert summary["frames"]["published"] == len(hs) + hs[0]["seq"] - 1
+    return hs, (status, n_at_status), summary
+
+
+def mode_of(h, modes):
+    """The frame's beam mode name as the daemon takes it: its left lamp's newest cycle (also in
+    the fail-safe, which holds it), None before the lamp's first cycle."""
+    return modes[h["cycle_seq_left"] - 1] if h["cycle_seq_left"] else None
+
+
+def check_counts(hs, status, summary, want_mask):
+    """Every frame's evaluated sets are want_mask(frame), and /status's (at the frames seen by
+    then) and the exit line's per-set frame counts are the sums of those masks, exactly (frames
+    before the client, if any, had no cycle yet: every set). Returns the exit line's."""
+    before = hs[0]["seq"] - 1
+    status, n_at_status = status
+    for h in hs:
+        assert h["n_sets"] == 2 and h["sets_evaluated"] == want_mask(h), h
+    for st, upto in ((status, n_at_status), (summary, len(hs))):
+        want = [before + sum(1 for h in hs[:upto] if want_mask(h) & (1 << i)) for i in range(2)]
+        assert [set_status(st, s)["frames"] for s in (PASSING, DRIVING)] == want, upto
+    return want
+
+
+def test_default_modes_check_each_set_in_its_beam(hdlamp, lamps, tmp_path):
+    # the shipped hd84.dbc (HL_Mode_L: 0 unset, 1 low, 2 high, 3 glarefree), verdict.modes
+    # empty: the passing set on low-beam and bend frames, the driving set on high-beam frames,
+    # neither on glare-free frames (no ADB set configured); every set without a mode
+    dbc = dbc_path("hd84.dbc")
+    log, modes = drive_log(hdlamp, dbc, str(tmp_path))
+    n = PHASE
+    assert modes == ["low"] * n + ["high"] * n + ["glarefree"] * 2 * n + ["low"] * (2 * n + 5 + n)
+    hs, status, summary = run_drive(lamps, log, modes, dbc=dbc)
+    masks = {None: 0b11, "low": 0b01, "high": 0b10, "glarefree": 0b00}
+    passing, driving = check_counts(hs, status, summary, lambda h: masks[mode_of(h, modes)])
+    seen = [mode_of(h, modes) for h in hs]
+    # the passing set was not checked on one high-beam frame: its count is the frames of the
+    # low beam and the bends plus those without a mode, and the driving set's the reverse
+    assert seen.count("high") > 0 and seen.count("low") > 0 and seen.count("glarefree") > 0
+    assert passing == seen.count("low") + seen.count(None) + hs[0]["seq"] - 1
+    assert driving == seen.count("high") + seen.count(None) + hs[0]["seq"] - 1
+    assert status[0]["verdicts"]["mode_aware"] is True
+    assert [(s["id"], s["beam"]) for s in status[0]["verdicts"]["sets"]] == [
+        (PASSING, "passing"), (DRIVING, "driving")]
+
+
+def test_explicit_modes_win_over_the_sets_beams(hdlamp, lamps, tmp_path):
+    # verdict.modes given: its mapping alone, even against the sets' beams; low, which it does
+    # not name, has no set
+    dbc = dbc_path("hd84.dbc")
+    log, modes = drive_log(hdlamp, dbc, str(tmp_path))
+    hs, status, summary = run_drive(
+        lamps, log, modes, "--set",
+        f"verdict.modes=high:{PASSING},glarefree:{DRIVING}+{PASSING},unset:{DRIVING}", dbc=dbc)
+    masks = {None: 0b11, "low": 0b00, "high": 0b01, "glarefree": 0b11}
+    passing, driving = check_counts(hs, status, summary, lambda h: masks[mode_of(h, modes)])
+    seen = [mode_of(h, modes) for h in hs]
+    assert passing == seen.count("high") + seen.count("glarefree") + seen.count(None) + \
+        hs[0]["seq"] - 1
+    assert seen.count("low") > 0 and passing < summary["frames"]["published"]
+
+
+def test_without_a_mode_signal_every_set_on_every_frame(hdlamp, lamps, tmp_path):
+    # hd84_fd.dbc without its HL_Mode_L / HL_Mode_R: no beam is said, both sets on every frame
+    text = open(dbc_path("hd84_fd.dbc")).read()
+    dbc = str(tmp_path / "hd84_fd_no_mode.dbc")
+    with open(dbc, "w") as f:
+        f.write("".join(l for l in text.splitlines(True) if "HL_Mode_" not in l))
+    assert "HdlBeamMode\" SG_" not in open(dbc).read()
+    log, modes = drive_log(hdlamp, dbc, str(tmp_path))
+    assert modes == [None] * len(modes)
+    hs, status, summary = run_drive(lamps, log, modes, dbc=dbc)
+    passing, driving = check_counts(hs, status, summary, lambda h: 0b11)
+    assert passing == driving == summary["frames"]["published"] > 7 * PHASE
+    assert status[0]["verdicts"]["mode_aware"] is False and status[0]["verdicts"]["mode"] is None

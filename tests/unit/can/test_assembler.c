@@ -387,13 +387,36 @@ static char *read_text(const char *rel, long *ret_n)
 	return text;
 }
 
+/* A shipped database's text without its beam-mode signal (every line naming HL_Mode_). */
+static struct hl_dbc *load_db_without_mode(const char *name)
+{
+	char rel[64], *text, *line, *out;
+	struct hl_dbc *db = NULL;
+	struct hl_dbc_error err;
+	long n;
+	size_t len = 0;
+
+	snprintf(rel, sizeof(rel), "dbc/%s", name);
+	text = read_text(rel, &n);
+	out = calloc(1, n + 1);
+	assert_non_null(out);
+	for (line = strtok(text, "\n"); line; line = strtok(NULL, "\n"))
+		if (!strstr(line, "HL_Mode_"))
+			len += (size_t)sprintf(out + len, "%s\n", line);
+	if (hl_dbc_parse(out, (long)len, &db, &err) < 0)
+		fail_msg("%s without HL_Mode_:%d:%d: %s", name, err.line, err.column, err.msg);
+	free(text);
+	free(out);
+	return db;
+}
+
 /*
  * hd84_fd.dbc with a 4-bit HL_Mode_L/_R in the last byte of each lamp's second message
  * (tests/data/dbc/hd84_fd_beam_mode.dbc): its value rides with the lamp's cycle.
  */
 static void assembler_beam_mode_signal_rides_with_the_cycle(void **state)
 {
-	struct hl_dbc *db, *plain = load_db("hd84_fd.dbc");
+	struct hl_dbc *db, *plain = load_db_without_mode("hd84_fd.dbc");
 	struct hl_assembler *a, *ap;
 	struct hl_asm_error err;
 	struct hl_encoded_frame fr[64];
@@ -451,6 +474,82 @@ static void assembler_beam_mode_signal_rides_with_the_cycle(void **state)
 	hl_dbc_free(db);
 	hl_dbc_free(plain);
 	free(text);
+}
+
+/*
+ * The shipped databases' HL_Mode_L / HL_Mode_R (0 unset, 1 low, 2 high, 3 glarefree): hd84.dbc
+ * on page 11 (bits 58..63, the slot after source 95), hd84_fd.dbc in frame B (bits 114..119).
+ * Each cycle carries the value given; hl_assembler_encode (no mode) sends 0, "unset".
+ */
+static void assembler_shipped_databases_carry_the_beam_mode(void **state)
+{
+	static const char *const files[] = { "hd84.dbc", "hd84_fd.dbc" };
+	static const char *const mode_msg[] = { "HL_Dim_L", "HL_DimB_L" };
+	static const int start[] = { 58, 114 }, parts[] = { 12, 2 };
+	static const char *const names[] = { "unset", "low", "high", "glarefree" };
+	(void)state;
+
+	for (int f = 0; f < 2; f++) {
+		struct hl_dbc *db = load_db(files[f]);
+		struct hl_assembler *a;
+		struct hl_asm_error err;
+		struct hl_encoded_frame fr[64];
+		struct hl_asm_events ev;
+		const struct hl_dbc_signal *sg;
+		unsigned long long rng = 11;
+		float in[95];
+		int64_t v;
+
+		assert_int_equal(hl_assembler_new(db, lamps, 2, 100, 0, &a, &err), 0);
+		for (int l = 0; l < 2; l++) {
+			sg = hl_assembler_mode_signal(a, l);
+			assert_non_null(sg);
+			assert_string_equal(sg->name, l ? "HL_Mode_R" : "HL_Mode_L");
+			assert_int_equal(sg->start_bit, start[f]);
+			assert_int_equal(sg->length, 6);
+			assert_int_equal(sg->n_values, 4);
+			for (int k = 0; k < 4; k++) {
+				assert_int_equal(sg->values[k].value, k);
+				assert_string_equal(sg->values[k].desc, names[k]);
+				assert_int_equal(hl_assembler_mode_value(a, l, names[k], &v), 0);
+				assert_true(v == k);
+			}
+			assert_int_equal(hl_assembler_mode_value(a, l, "GlareFree", &v), 0);
+			assert_true(v == 3);
+			assert_int_equal(hl_assembler_mode_value(a, l, "fog", &v), -ENOENT);
+			assert_int_equal(hl_assembler_n_sources(a, l),
+					 95); /* the mode is no source */
+		}
+		sg = hl_assembler_mode_signal(a, 0);
+		assert_ptr_equal(sg, hl_dbc_find_signal(hl_dbc_find_message(db, mode_msg[f]),
+							"HL_Mode_L"));
+		if (f == 0) /* a page-11 signal, as the sources 89..95 */
+			assert_true(sg->mux_parent >= 0 && sg->n_mux_ranges == 1 &&
+				    sg->mux_ranges[0].lo == 11 && sg->mux_ranges[0].hi == 11);
+		for (int cyc = 0; cyc < 8; cyc++) {
+			struct hl_cycle c = { 0 };
+			const int64_t mode = cyc % 4;
+			int k;
+
+			values(&rng, in);
+			k = hl_assembler_encode_mode(a, 0, in, (unsigned)cyc, mode, fr, 64);
+			assert_int_equal(k, parts[f]);
+			assert_int_equal(feed(a, fr, k, cyc * 20 * MS, &c, &ev), 1);
+			assert_true(c.mode == mode);
+			assert_memory_equal(c.i, in, sizeof(in));
+		}
+		/* no mode given: the bits stay 0, unset */
+		{
+			struct hl_cycle c = { 0 };
+			int k;
+
+			k = hl_assembler_encode(a, 0, in, 8, fr, 64);
+			assert_int_equal(feed(a, fr, k, 8 * 20 * MS, &c, &ev), 1);
+			assert_true(c.mode == 0);
+		}
+		hl_assembler_free(a);
+		hl_dbc_free(db);
+	}
 }
 
 /*
@@ -524,6 +623,7 @@ int main(void)
 			assembler_hdl_source_default_1_assembles_the_same_cycles, setup_classic,
 			teardown),
 		cmocka_unit_test(assembler_beam_mode_signal_rides_with_the_cycle),
+		cmocka_unit_test(assembler_shipped_databases_carry_the_beam_mode),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -259,13 +259,15 @@ static void dbc_multiplexed_pages(void **state)
 		assert_int_equal(v[3 + j].raw, want[j]);
 		assert_true(v[3 + j].phys == want[j] * (1.0 / 63));
 	}
-	/* page 11 has 7 sources: the 96th slot is not a signal */
+	/* page 11 has 7 sources; the 96th slot (bits 58..63) is the beam mode */
 	{
-		const uint8_t p11[8] = { 0, 0xb0, 0, 0, 0, 0, 0, 0xfc };
+		const uint8_t p11[8] = { 0, 0xb0, 0, 0, 0, 0, 0, 0x0c };
 
 		n = hl_dbc_decode(m, p11, 8, v);
-		assert_int_equal(n, 3 + 7);
+		assert_int_equal(n, 3 + 7 + 1);
 		assert_string_equal(m->signals[v[9].signal].name, "LED_095");
+		assert_string_equal(m->signals[v[10].signal].name, "HL_Mode_L");
+		assert_int_equal(v[10].raw, 3);
 	}
 	/* pages 12..15 select nothing */
 	{
@@ -462,8 +464,8 @@ static void dbc_round_trip_every_led_value(void **state)
 			for (int k = 0; k < m->n_signals; k++) {
 				const struct hl_dbc_signal *s = &m->signals[k];
 
-				if (s->length != 6)
-					continue;
+				if (s->length != 6 || strncmp(s->name, "LED_", 4) != 0)
+					continue; /* HL_Mode_x is 6 bits too, of 0..3 */
 				leds++;
 				for (uint64_t r = 0; r < 64; r++) {
 					uint8_t e[64] = { 0 };

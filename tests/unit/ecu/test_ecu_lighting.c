@@ -115,6 +115,7 @@ static void lighting_failsafe_low_before_any_input(void **state)
 	assert_int_equal(st.mode, HL_ECU_LOW);
 	assert_int_equal(st.failsafe, HL_ECU_FS_VEHICLE_MISSING | HL_ECU_FS_OBJECTS_MISSING);
 	assert_beam(e, f->low);
+	assert_string_equal(hl_ecu_beam_mode_name(st.mode), "low"); /* the fail-safe shows it */
 	/* only the vehicle: the camera is still missing */
 	feed(e, HL_SWITCH_HIGH, false, 20, NULL, T0);
 	hl_ecu_objects(e, &(struct hl_camera_objects){ 0 }, T0 - 61 * MS);
@@ -135,19 +136,23 @@ static void lighting_switch_positions(void **state)
 	assert_int_equal(st.mode, HL_ECU_LOW);
 	assert_int_equal(st.failsafe, 0);
 	assert_beam(e, f->low);
+	assert_string_equal(hl_ecu_beam_mode_name(st.mode), "low");
 	feed(e, HL_SWITCH_HIGH, false, 20, NULL, T0);
 	hl_ecu_step(e, T0, &st);
 	assert_int_equal(st.mode, HL_ECU_HIGH);
 	assert_beam(e, f->high);
+	assert_string_equal(hl_ecu_beam_mode_name(st.mode), "high");
 	/* ADB without objects: the whole high beam */
 	feed(e, HL_SWITCH_HIGH, true, 20, NULL, T0);
 	hl_ecu_step(e, T0, &st);
 	assert_int_equal(st.mode, HL_ECU_GLAREFREE);
 	assert_int_equal(st.masked[0] + st.masked[1], 0);
 	assert_beam(e, f->high);
+	assert_string_equal(hl_ecu_beam_mode_name(st.mode), "glarefree");
 	feed(e, HL_SWITCH_OFF, false, 20, NULL, T0);
 	hl_ecu_step(e, T0, &st);
 	assert_int_equal(st.mode, HL_ECU_OFF);
+	assert_string_equal(hl_ecu_beam_mode_name(st.mode), "unset"); /* dark: no beam said */
 	for (int s = 0; s < 2; s++)
 		for (int k = 0; k < HL_HD84_SOURCES; k++)
 			assert_true(hl_ecu_output(e, s)[k] == 0.0f);

@@ -44,6 +44,7 @@ static void regulation_parses_kinds_angles_and_limits(void **state)
 	assert_int_equal(reg->receiver, HL_RECEIVER_SQUARE);
 	assert_float_equal(reg->receiver_deg, 0.149, 0);
 	assert_int_equal(reg->aim, HL_REG_AIM_NONE);
+	assert_int_equal(reg->beam, HL_REG_BEAM_NONE); /* no "beam": every mode */
 	assert_int_equal(reg->n_requirements, 5);
 	assert_string_equal(reg->req[0].id, "B50L");
 	assert_float_equal(reg->req[0].pts[0][0], -3.43, 0);
@@ -171,6 +172,37 @@ static void regulation_rejections_say_where(void **state)
 	expect_error(text, 6, "'angles': expected \"A\" or \"B\"");
 }
 
+/* "beam": passing, driving or adb; anything else is refused on its line. */
+static void regulation_beam_is_one_of_three(void **state)
+{
+	(void)state;
+	static const char *const beams[] = { "passing", "driving", "adb" };
+	static const enum hl_reg_beam want[] = { HL_REG_BEAM_PASSING, HL_REG_BEAM_DRIVING,
+						 HL_REG_BEAM_ADB };
+	char text[4096];
+	const char *at = strstr(good, "\"angles\"");
+
+	for (int b = 0; b < 3; b++) {
+		struct hl_regulation *reg;
+		struct hl_regulation_error err;
+
+		snprintf(text, sizeof(text), "%.*s\"beam\": \"%s\",\n%s", (int)(at - good), good,
+			 beams[b], at);
+		assert_int_equal(hl_regulation_parse(text, "good.json", &reg, &err), 0);
+		assert_int_equal(reg->beam, want[b]);
+		assert_string_equal(hl_reg_beam_name(reg->beam), beams[b]);
+		assert_int_equal(reg->req[0].line, 10); /* one line further down */
+		hl_regulation_free(reg);
+	}
+	assert_null(hl_reg_beam_name(HL_REG_BEAM_NONE));
+	snprintf(text, sizeof(text), "%.*s\"beam\": \"high\",\n%s", (int)(at - good), good, at);
+	expect_error(text, 6, "bad.json:6: 'beam': expected \"passing\", \"driving\" or \"adb\"");
+	snprintf(text, sizeof(text), "%.*s\"beam\": 1,\n%s", (int)(at - good), good, at);
+	expect_error(text, 6, "'beam': expected \"passing\", \"driving\" or \"adb\"");
+	snprintf(text, sizeof(text), "%.*s\"beam\": \"Passing\",\n%s", (int)(at - good), good, at);
+	expect_error(text, 6, "'beam': expected"); /* as the files write it: lower case */
+}
+
 static void regulation_loads_by_id_and_lists(void **state)
 {
 	(void)state;
@@ -230,6 +262,15 @@ static void regulation_shipped_sets_load(void **state)
 
 		if (hl_regulation_load(dir, *id, &reg, &err) < 0)
 			fail_msg("%s", err.msg);
+		/* every shipped set says its beam; the file name says which */
+		if (strstr(*id, "passing") || strstr(*id, "lower"))
+			assert_int_equal(reg->beam, HL_REG_BEAM_PASSING);
+		else if (strstr(*id, "driving") || strstr(*id, "upper"))
+			assert_int_equal(reg->beam, HL_REG_BEAM_DRIVING);
+		else if (strstr(*id, "adb"))
+			assert_int_equal(reg->beam, HL_REG_BEAM_ADB);
+		else
+			fail_msg("%s: which beam?", *id);
 		for (int k = 0; k < reg->n_requirements; k++)
 			assert_true(strlen(reg->req[k].source) > 8);
 		hl_regulation_free(reg);
@@ -244,6 +285,7 @@ int main(void)
 		cmocka_unit_test(regulation_parses_kinds_angles_and_limits),
 		cmocka_unit_test(regulation_angles_as_written),
 		cmocka_unit_test(regulation_rejections_say_where),
+		cmocka_unit_test(regulation_beam_is_one_of_three),
 		cmocka_unit_test(regulation_loads_by_id_and_lists),
 		cmocka_unit_test(regulation_shipped_sets_load),
 	};

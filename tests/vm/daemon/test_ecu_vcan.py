@@ -230,8 +230,11 @@ def dimming_cycles(frames, layout):
         c["pages"][page] = [(word >> (16 + 6 * j)) & 63 for j in range(8)]
         c["t1"] = t
         if len(c["pages"]) == PAGES:
-            dims = [v for p in range(PAGES) for v in c["pages"][p]][:N_SOURCES]
+            slots = [v for p in range(PAGES) for v in c["pages"][p]]
+            dims = slots[:N_SOURCES]
             cycles[lamp].append((c["t0"], c["t1"], counter, dims))
+            # HL_Mode_x, the slot after the last source (page 11, bits 58..63)
+            cycles.modes[lamp][c["t0"]] = slots[N_SOURCES]
             cur[lamp] = None
     assert bad == 0, f"{bad} dimming frames with a wrong CRC"
     return cycles
@@ -241,6 +244,7 @@ class Cycles(dict):
     def __init__(self, **kw):
         super().__init__(**kw)
         self.partial = {lamp: [] for lamp in kw}
+        self.modes = {lamp: {} for lamp in kw}  # by a cycle's t_first: its beam mode value
 
 
 def preset(hdlamp, tmp_path, name):
@@ -345,6 +349,17 @@ def check_phase(cycles, t_from, t_to, want, what, at_least=10):
         print(f"{what}: {lamp}: {len(got)} cycles as expected")
 
 
+# hd84.dbc's VAL_ of HL_Mode_L / HL_Mode_R
+BEAM_MODES = {"unset": 0, "low": 1, "high": 2, "glarefree": 3}
+
+
+def check_modes(cycles, t_from, t_to, mode, what):
+    """Every complete cycle between the times says the beam mode (hdlamp ecu, docs/ecu.md)."""
+    for lamp in ("left", "right"):
+        got = {cycles.modes[lamp][c[0]] for c in cycles_between(cycles[lamp], t_from, t_to)}
+        assert got == {BEAM_MODES[mode]}, (what, lamp, got)
+
+
 def counters_step(cycles):
     """Alive counters step by one per cycle (0..14, wrapping). A gap is allowed only where the
     recorder saw the missing counter values in part (it missed frames, the ECU did not skip a
@@ -410,6 +425,9 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     t_first_input = min(t for t, mid, _ in frames if mid == inputs.vehicle)
     check_phase(cycles, 0, t_first_input, low, "no inputs (fail-safe)", at_least=20)
     check_phase(cycles, t_first_input + settle, phases["high"], high, "switch high")
+    # the beam each cycle shows, in its HL_Mode_x signal: the fail-safe's low beam, the high
+    check_modes(cycles, 0, t_first_input, "low", "no inputs (fail-safe)")
+    check_modes(cycles, t_first_input + settle, phases["high"], "high", "switch high")
 
     # 2. the glare-free high beam: the sources whose windows meet the car's box are off
     want = {}
@@ -421,6 +439,7 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
         assert 0 < len(lit_off) < 30
     assert want["left"] != want["right"]  # the lamps see the car from 1.4 m apart
     check_phase(cycles, phases["high"] + settle, phases["glarefree"], want, "glare-free")
+    check_modes(cycles, phases["high"] + settle, phases["glarefree"], "glarefree", "glare-free")
     # the reaction: the first dimming cycle computed after the camera cycle that carried the
     # car masks it (the ECU decides at each deadline on what it has received)
     t_obj = min(t for t, mid, d in frames if mid == inputs.box)

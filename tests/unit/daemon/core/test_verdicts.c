@@ -334,7 +334,7 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 		      "\"mode_aware\":false,\"modes_configured\":false,\"sets\":"
 		      "[{\"id\":\"test-adb-glare\",\"title\":\"Test set: an "
 		      "oncoming vehicle's window at 50 m, half the pair's sum\","
-		      "\"applies\":\"pair_half\",\"evaluated\":true,"
+		      "\"applies\":\"pair_half\",\"beam\":\"adb\",\"evaluated\":true,"
 		      "\"frames\":7,\"failed_frames\":3,\"now\":{\"result\":\"pass\","
 		      "\"t_s\":0.1200,\"requirement\":\"Oncoming 50 m\",\"part\":\"pair\"},"
 		      "\"so_far\":{\"result\":\"FAIL\",\"frames\":7,\"evaluated\":7,"
@@ -352,7 +352,7 @@ static void verdicts_json_and_metrics_of_a_frame(void **state)
 	/* the other set was not evaluated on this frame: no results; so far it passed */
 	assert_non_null(strstr(json, "{\"id\":\"test-each-lamp\",\"title\":\"Test set: two "
 				     "requirements on each lamp\",\"applies\":\"each_lamp\","
-				     "\"evaluated\":false,\"frames\":7,"
+				     "\"beam\":null,\"evaluated\":false,\"frames\":7,"
 				     "\"failed_frames\":0,\"now\":{\"result\":\"pass\","));
 	assert_non_null(strstr(json, "\"so_far\":{\"result\":\"pass\",\"frames\":7,"
 				     "\"evaluated\":7,\"failed\":0,"));
@@ -420,12 +420,19 @@ static void verdicts_beam_mode_selects_the_sets(void **state)
 	assert_non_null(mode.signal);
 	use_sets(&cfg, "test-adb-glare", "test-each-lamp");
 
-	/* a mode signal but no verdict.modes: every set, whatever the mode */
+	/* a mode signal but no verdict.modes: the sets by their beams, test-adb-glare ("adb") in
+	 * glarefree only, test-each-lamp (no beam) in every mode */
 	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
 					 sizeof(err)),
 			 0);
 	assert_int_equal(hl_verdicts_mode_lamp(v), 0);
-	assert_int_equal(hl_verdicts_active(v, 1), 0x3);
+	assert_true(hl_verdicts_mode_aware(v));
+	assert_string_equal(hl_verdicts_set_beam(v, 0), "adb");
+	assert_null(hl_verdicts_set_beam(v, 1));
+	assert_int_equal(hl_verdicts_active(v, 0), 0x2); /* low */
+	assert_int_equal(hl_verdicts_active(v, 1), 0x2); /* high */
+	assert_int_equal(hl_verdicts_active(v, 2), 0x3); /* glarefree */
+	assert_int_equal(hl_verdicts_active(v, 7), 0x3); /* a value without a name */
 	assert_int_equal(hl_verdicts_active(v, -1), 0x3);
 	assert_string_equal(hl_verdicts_mode_name(v, 2), "glarefree");
 	assert_null(hl_verdicts_mode_name(v, 7));
@@ -462,6 +469,123 @@ static void verdicts_beam_mode_selects_the_sets(void **state)
 	assert_string_equal(err, "verdict.modes: the DBC has no signal with the attribute "
 				 "HdlBeamMode in the lamps' messages");
 	hl_dbc_free(db);
+}
+
+/* A mode signal of hd84.dbc (its own database, the VAL_ names the daemon maps to beams). */
+static const struct hl_dbc_signal *shipped_mode_signal(const char *file, struct hl_dbc **ret_db)
+{
+	char path[600];
+	struct hl_dbc_error derr;
+	const struct hl_dbc_signal *sg;
+
+	snprintf(path, sizeof(path), "%s/dbc/%s", getenv("HL_SOURCE_DIR"), file);
+	assert_int_equal(hl_dbc_parse_file(path, ret_db, &derr), 0);
+	sg = hl_dbc_find_signal(hl_dbc_find_message(*ret_db, "HL_Dim_L"), "HL_Mode_L");
+	assert_non_null(sg);
+	return sg;
+}
+
+/* The shipped sets with the shipped hd84.dbc (0 unset, 1 low, 2 high, 3 glarefree). */
+static void use_shipped_sets(struct hl_config *cfg)
+{
+	snprintf(cfg->regulations, sizeof(cfg->regulations), "%s/regulations",
+		 getenv("HL_SOURCE_DIR"));
+	cfg->n_verdict_sets = 0;
+	snprintf(cfg->verdict_sets[cfg->n_verdict_sets++], HL_CONFIG_SET_ID, "%s",
+		 "unece-r149-01-passing-c");
+	snprintf(cfg->verdict_sets[cfg->n_verdict_sets++], HL_CONFIG_SET_ID, "%s",
+		 "unece-r149-01-driving-b");
+	snprintf(cfg->verdict_sets[cfg->n_verdict_sets++], HL_CONFIG_SET_ID, "%s",
+		 "unece-r149-01-adb-glare");
+	snprintf(cfg->verdict_sets[cfg->n_verdict_sets++], HL_CONFIG_SET_ID, "%s",
+		 "fmvss108-upper-ub1");
+}
+
+/* Without verdict.modes each set is active in the modes of its beam; unset and unknown: all. */
+static void verdicts_default_modes_follow_the_sets_beams(void **state)
+{
+	struct fixture *fx = *state;
+	struct hl_config cfg = fx->cfg;
+	struct hl_dbc *db;
+	struct hl_verdicts *v;
+	struct hl_verdicts_mode_source mode = { 0, NULL };
+	char err[1024];
+
+	mode.signal = shipped_mode_signal("hd84.dbc", &db);
+	use_shipped_sets(&cfg);
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 0);
+	assert_true(hl_verdicts_mode_aware(v));
+	assert_string_equal(hl_verdicts_set_beam(v, 0), "passing");
+	assert_string_equal(hl_verdicts_set_beam(v, 1), "driving");
+	assert_string_equal(hl_verdicts_set_beam(v, 2), "adb");
+	assert_string_equal(hl_verdicts_set_beam(v, 3), "driving");
+	assert_string_equal(hl_verdicts_mode_name(v, 0), "unset");
+	assert_int_equal(hl_verdicts_active(v, 0), 0xf); /* unset: not said, every set */
+	assert_int_equal(hl_verdicts_active(v, 1), 0x1); /* low: the passing set */
+	assert_int_equal(hl_verdicts_active(v, 2), 0xa); /* high: both driving sets */
+	assert_int_equal(hl_verdicts_active(v, 3), 0x4); /* glarefree: the ADB set */
+	assert_int_equal(hl_verdicts_active(v, 5), 0xf); /* a value without a name */
+	assert_int_equal(hl_verdicts_active(v, -1), 0xf); /* no cycle yet */
+	hl_verdicts_free(v);
+
+	/* verdict.modes given wins entirely: what it does not name has no set */
+	snprintf(cfg.verdict_modes, sizeof(cfg.verdict_modes),
+		 "high:unece-r149-01-passing-c+unece-r149-01-adb-glare");
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 0);
+	assert_true(hl_verdicts_mode_aware(v));
+	assert_int_equal(hl_verdicts_active(v, 0), 0x0);
+	assert_int_equal(hl_verdicts_active(v, 1), 0x0);
+	assert_int_equal(hl_verdicts_active(v, 2), 0x5);
+	assert_int_equal(hl_verdicts_active(v, 3), 0x0);
+	assert_int_equal(hl_verdicts_active(v, 5), 0x0);
+	assert_int_equal(hl_verdicts_active(v, -1), 0xf);
+	hl_verdicts_free(v);
+
+	/* no mode signal: every set on every frame */
+	cfg.verdict_modes[0] = '\0';
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, NULL, &v, err,
+					 sizeof(err)),
+			 0);
+	assert_false(hl_verdicts_mode_aware(v));
+	assert_int_equal(hl_verdicts_mode_lamp(v), -1);
+	for (int64_t m = -1; m <= 4; m++)
+		assert_int_equal(hl_verdicts_active(v, m), 0xf);
+	hl_verdicts_free(v);
+	hl_dbc_free(db);
+}
+
+/* The vocabulary: passing/driving/adb as well as low/high/glarefree, in any case. */
+static void verdicts_default_modes_match_names_in_any_case(void **state)
+{
+	static const struct hl_dbc_value_desc values[] = {
+		{ 0, "PASSING" },   { 1, "High" }, { 2, "Driving" }, { 4, "ADB" },
+		{ 5, "GlareFree" }, { 6, "Low" },  { 7, "fog" },
+	};
+	struct fixture *fx = *state;
+	struct hl_config cfg = fx->cfg;
+	struct hl_dbc_signal sg = { .name = "Mode", .length = 4, .n_values = 7, .values = values };
+	struct hl_verdicts_mode_source mode = { 1, &sg };
+	struct hl_verdicts *v;
+	char err[1024];
+
+	use_shipped_sets(&cfg);
+	assert_int_equal(hl_verdicts_new(&cfg, 2, names, fx->grids, fx->poses, &mode, &v, err,
+					 sizeof(err)),
+			 0);
+	assert_int_equal(hl_verdicts_mode_lamp(v), 1);
+	assert_int_equal(hl_verdicts_active(v, 0), 0x1);
+	assert_int_equal(hl_verdicts_active(v, 1), 0xa);
+	assert_int_equal(hl_verdicts_active(v, 2), 0xa);
+	assert_int_equal(hl_verdicts_active(v, 3), 0xf); /* no name */
+	assert_int_equal(hl_verdicts_active(v, 4), 0x4);
+	assert_int_equal(hl_verdicts_active(v, 5), 0x4);
+	assert_int_equal(hl_verdicts_active(v, 6), 0x1);
+	assert_int_equal(hl_verdicts_active(v, 7), 0xf); /* not a beam: every set */
+	hl_verdicts_free(v);
 }
 
 /* A frame's verdicts and road KPIs allocate nothing (the render thread's part). */
@@ -514,6 +638,8 @@ int main(void)
 		cmocka_unit_test(verdicts_road_kpis_are_the_planners),
 		cmocka_unit_test(verdicts_json_and_metrics_of_a_frame),
 		cmocka_unit_test(verdicts_beam_mode_selects_the_sets),
+		cmocka_unit_test(verdicts_default_modes_follow_the_sets_beams),
+		cmocka_unit_test(verdicts_default_modes_match_names_in_any_case),
 		cmocka_unit_test(verdicts_eval_and_road_allocate_nothing),
 	};
 
