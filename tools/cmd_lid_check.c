@@ -103,9 +103,12 @@ static void limit(const struct hl_req_result *r, char *buf, size_t size)
 static void table(const struct hl_regulation *reg, const struct hl_verdict_options *o,
 		  const struct hl_req_result *res, bool pass)
 {
-	printf("%s: %s\n%s\ntraffic %s, aim H %+.2f V %+.2f deg, receiver %s %.3f deg\n\n", reg->id,
-	       reg->title, reg->source, o->traffic == HL_TRAFFIC_LEFT ? "left" : "right",
-	       o->aim_h_deg, o->aim_v_deg,
+	printf("%s: %s\n%s\n", reg->id, reg->title, reg->source);
+	/* the beam the set is for: hdlampd applies it to that beam's frames (docs/verdicts.md) */
+	if (hl_reg_beam_name(reg->beam))
+		printf("a set for the %s beam\n", hl_reg_beam_name(reg->beam));
+	printf("traffic %s, aim H %+.2f V %+.2f deg, receiver %s %.3f deg\n\n",
+	       o->traffic == HL_TRAFFIC_LEFT ? "left" : "right", o->aim_h_deg, o->aim_v_deg,
 	       reg->receiver == HL_RECEIVER_SQUARE ? "square" : "circle", reg->receiver_deg);
 	printf("%-24s %-8s %-16s %12s %16s %9s  %s\n", "id", "kind", "at", "value cd", "limit cd",
 	       "margin", "pass");
@@ -121,7 +124,8 @@ static void table(const struct hl_regulation *reg, const struct hl_verdict_optio
 			printf("  (%d positions beyond the measured grid)", res[i].n_outside);
 		printf("\n");
 	}
-	printf("\nverdict: %s\n", pass ? "PASS" : "FAIL");
+	/* the words of the live verdicts: "pass", "FAIL" (one distribution: no "so far") */
+	printf("\nverdict: %s\n", pass ? "pass" : "FAIL");
 }
 
 static void json_pt(const struct hl_verdict_options *o, const double p[2])
@@ -144,6 +148,11 @@ static void json(const struct hl_regulation *reg, const struct hl_verdict_option
 {
 	printf("{\"regulation\": ");
 	hl_tool_json_str(stdout, reg->id);
+	printf(", \"beam\": ");
+	if (hl_reg_beam_name(reg->beam))
+		hl_tool_json_str(stdout, hl_reg_beam_name(reg->beam));
+	else
+		printf("null");
 	printf(", \"traffic\": \"%s\", \"aim\": {\"h_deg\": ",
 	       o->traffic == HL_TRAFFIC_LEFT ? "left" : "right");
 	hl_tool_json_num(stdout, o->aim_h_deg);
@@ -160,7 +169,8 @@ static void json(const struct hl_regulation *reg, const struct hl_verdict_option
 		printf(", \"sharp_ok\": %s, \"linear_ok\": %s}", cut->sharp_ok ? "true" : "false",
 		       cut->linear_ok ? "true" : "false");
 	}
-	printf(", \"pass\": %s, \"requirements\": [", pass ? "true" : "false");
+	printf(", \"pass\": %s, \"result\": \"%s\", \"requirements\": [", pass ? "true" : "false",
+	       pass ? "pass" : "FAIL");
 	for (int i = 0; i < reg->n_requirements; i++) {
 		const struct hl_requirement *q = &reg->req[i];
 		const struct hl_req_result *r = &res[i];

@@ -77,8 +77,8 @@ def test_list_names_every_shipped_set(hdlamp):
 
 def test_low_beam_json_has_the_exact_shape_and_independent_values(hdlamp, hd84):
     v = verdict(hdlamp, hd84, "low", "left", PASSING_C)
-    assert list(v) == ["regulation", "traffic", "aim", "pass", "requirements"]
-    assert v["regulation"] == PASSING_C and v["traffic"] == "right"
+    assert list(v) == ["regulation", "beam", "traffic", "aim", "pass", "result", "requirements"]
+    assert v["regulation"] == PASSING_C and v["traffic"] == "right" and v["beam"] == "passing"
     assert v["aim"] == {"h_deg": 0, "v_deg": 0}
     reqs = {r["id"]: r for r in v["requirements"]}
     for want in ("B50L", "75R", "50V", "50L", "Zone III", "Segment 25", "Segment BLL"):
@@ -93,6 +93,8 @@ def test_low_beam_json_has_the_exact_shape_and_independent_values(hdlamp, hd84):
         if r["kind"] in ("segment", "zone", "imax"):
             assert "at_h_deg" in r and "at_v_deg" in r
     assert v["pass"] == all(r["pass"] for r in v["requirements"])
+    # the live verdicts' words: "pass" or "FAIL"
+    assert v["result"] == ("pass" if v["pass"] else "FAIL")
     # the point values against an independent receiver mean of the exported table
     table = table_of(hdlamp, hd84, "low", "left", PASSING_C)
     for rid in ("B50L", "75R", "50V", "50L", "50R"):
@@ -188,3 +190,14 @@ def test_usage_and_bad_sets(hdlamp, hd84, tmp_path):
                    '"source": "s"}]}\n')
     r = check(hdlamp, lamp, "--regulation", bad, ok_codes=(1,))
     assert f"{bad}:6:" in r.stderr and "vertical angle" in r.stderr and "1Q" in r.stderr
+
+
+def test_table_says_the_sets_beam_and_the_verdict_in_the_live_words(hdlamp, hd84):
+    r = check(hdlamp, hd84 / "hd84_left.lid.exr", hd84 / "low.json", "--lamp", "left",
+              "--regulation", PASSING_C, ok_codes=(1,))
+    lines = r.stdout.splitlines()
+    assert lines[2] == "a set for the passing beam", lines[:5]
+    assert lines[-1] == "verdict: FAIL"
+    assert all(line.split()[-1] in ("pass", "FAIL") for line in lines[6:-2]
+               if line and "(" not in line), lines
+    assert lines[5].split()[-1] == "pass"  # the column header

@@ -141,9 +141,12 @@ def test_live_page_tells_now_from_so_far(hdlamp, lamps, tmp_path):
     if not os.path.isdir(os.path.join(BROWSER_DIR, "node_modules", "playwright-core")):
         subprocess.run(["npm", "ci", "--no-audit", "--no-fund"], cwd=BROWSER_DIR, check=True,
                        capture_output=True)
-    # low beam (the driving set fails), then high beam (it passes): 250 cycles = 5 s each
+    # low beam, then high beam, 250 cycles = 5 s each; the driving set judged on both (as a
+    # tester who asks how the high beam's set reads the low beam would): it fails the low beam
+    # and passes the high beam, so during the high beam it failed frames and passes the newest
     log, _, _ = generate(hdlamp, dbc_path("hd84.dbc"), str(tmp_path), phase=250)
-    p, _, hp, lines = start(lamps, log, "--loop", "--scenario", DEMO)
+    p, _, hp, lines = start(lamps, log, "--loop", "--scenario", DEMO, "--set",
+                            f"verdict.modes=low:{PASSING}+{DRIVING},high:{DRIVING}")
     try:
         shot = os.environ.get("HL_VERDICTS_SCREENSHOT") or str(tmp_path / "verdicts.png")
         r = subprocess.run([node, os.path.join(BROWSER_DIR, "verdict_panel.cjs"),
@@ -174,5 +177,8 @@ def test_live_page_tells_now_from_so_far(hdlamp, lamps, tmp_path):
     # /status says the same in its own fields
     d = set_of(st, DRIVING)
     assert d["so_far"]["failed"] > 0 and d["so_far"]["result"] == "FAIL"
-    assert seen["mode"].startswith("no beam-mode signal") or \
-        seen["mode"].startswith("beam mode of the newest frame"), seen
+    assert seen["mode"] == ("beam mode of the newest frame: high; each set is applied in its "
+                            "own beam mode (verdict.modes)"), seen
+    # the passing set is not applicable on the high beam's frames, and says so
+    ps = next(b for b in seen["sets"] if b["id"] == PASSING)
+    assert ps["boxClass"] == "set bad", ps
