@@ -19,20 +19,20 @@ static int parse_value_descs(struct parser *p, struct hl_dbc_value_desc **ret, i
 	struct hl_dbc_value_desc *v = NULL;
 	int n = 0, cap = 0, rc = 0;
 
-	while (!is_punct(p, ';')) {
+	while (!dbc_is_punct(p, ';')) {
 		if (hl_dbc_grow(&v, &cap, n, sizeof(*v))) {
 			rc = -ENOMEM;
 			break;
 		}
-		rc = get_int(p, "a value or ';'", &v[n].value);
+		rc = dbc_get_int(p, "a value or ';'", &v[n].value);
 		if (rc == 0)
-			rc = get_string(p, "the value's description string", &v[n].desc);
+			rc = dbc_get_string(p, "the value's description string", &v[n].desc);
 		if (rc < 0)
 			break;
 		n++;
 	}
 	if (rc == 0)
-		rc = next(p);
+		rc = dbc_next(p);
 	if (rc < 0) {
 		free(v);
 		return rc;
@@ -42,7 +42,7 @@ static int parse_value_descs(struct parser *p, struct hl_dbc_value_desc **ret, i
 	return 0;
 }
 
-int parse_val_table(struct parser *p)
+int dbc_parse_val_table(struct parser *p)
 {
 	struct hl_dbc *db = p->db;
 	struct value_table *t;
@@ -52,7 +52,7 @@ int parse_val_table(struct parser *p)
 		return -ENOMEM;
 	t = &db->tables[db->n_tables];
 	*t = (struct value_table){ 0 };
-	rc = get_ident(p, "the value table's name", &t->name);
+	rc = dbc_get_ident(p, "the value table's name", &t->name);
 	if (rc == 0)
 		rc = parse_value_descs(p, &t->entries, &t->n);
 	if (rc == 0)
@@ -72,9 +72,9 @@ static int object_kind(struct parser *p, enum hl_dbc_object *ret)
 
 	*ret = HL_DBC_NETWORK;
 	for (size_t i = 0; i < sizeof(kinds) / sizeof(kinds[0]); i++)
-		if (is_word(p, kinds[i].word)) {
+		if (dbc_is_word(p, kinds[i].word)) {
 			*ret = kinds[i].obj;
-			return next(p);
+			return dbc_next(p);
 		}
 	return 0;
 }
@@ -94,7 +94,7 @@ static int find_def(const struct hl_dbc *db, const char *name)
 	return -1;
 }
 
-int parse_ba_def(struct parser *p)
+int dbc_parse_ba_def(struct parser *p)
 {
 	struct hl_dbc *db = p->db;
 	struct hl_dbc_attr_def d = { 0 };
@@ -106,51 +106,51 @@ int parse_ba_def(struct parser *p)
 	line = p->tok.line;
 	col = p->tok.col;
 	if (rc == 0)
-		rc = get_string(p, "the attribute name string", &d.name);
+		rc = dbc_get_string(p, "the attribute name string", &d.name);
 	if (rc < 0)
 		return rc;
 	if (find_def(db, d.name) >= 0)
-		return fail_at(p, line, col, "attribute '%s' already defined", d.name);
-	if (is_word(p, "INT") || is_word(p, "HEX")) {
+		return dbc_fail_at(p, line, col, "attribute '%s' already defined", d.name);
+	if (dbc_is_word(p, "INT") || dbc_is_word(p, "HEX")) {
 		int64_t lo = 0, hi = 0;
 
-		d.type = is_word(p, "INT") ? HL_DBC_ATTR_INT : HL_DBC_ATTR_HEX;
-		rc = next(p);
+		d.type = dbc_is_word(p, "INT") ? HL_DBC_ATTR_INT : HL_DBC_ATTR_HEX;
+		rc = dbc_next(p);
 		if (rc == 0)
-			rc = get_int(p, "the attribute's minimum", &lo);
+			rc = dbc_get_int(p, "the attribute's minimum", &lo);
 		if (rc == 0)
-			rc = get_int(p, "the attribute's maximum", &hi);
+			rc = dbc_get_int(p, "the attribute's maximum", &hi);
 		d.min = (double)lo;
 		d.max = (double)hi;
-	} else if (is_word(p, "FLOAT")) {
+	} else if (dbc_is_word(p, "FLOAT")) {
 		d.type = HL_DBC_ATTR_FLOAT;
-		rc = next(p);
+		rc = dbc_next(p);
 		if (rc == 0)
-			rc = get_number(p, "the attribute's minimum", &d.min);
+			rc = dbc_get_number(p, "the attribute's minimum", &d.min);
 		if (rc == 0)
-			rc = get_number(p, "the attribute's maximum", &d.max);
-	} else if (is_word(p, "STRING")) {
+			rc = dbc_get_number(p, "the attribute's maximum", &d.max);
+	} else if (dbc_is_word(p, "STRING")) {
 		d.type = HL_DBC_ATTR_STRING;
-		rc = next(p);
-	} else if (is_word(p, "ENUM")) {
+		rc = dbc_next(p);
+	} else if (dbc_is_word(p, "ENUM")) {
 		d.type = HL_DBC_ATTR_ENUM;
-		rc = next(p);
-		while (rc == 0 && !is_punct(p, ';')) {
+		rc = dbc_next(p);
+		while (rc == 0 && !dbc_is_punct(p, ';')) {
 			if (d.n_labels > 0)
-				rc = expect_punct(p, ',', "',' or ';' after an enum label");
+				rc = dbc_expect_punct(p, ',', "',' or ';' after an enum label");
 			if (rc == 0 && hl_dbc_grow(&labels, &cap, d.n_labels, sizeof(*labels)))
 				rc = -ENOMEM;
 			if (rc == 0)
-				rc = get_string(p, "an enum label string", &labels[d.n_labels]);
+				rc = dbc_get_string(p, "an enum label string", &labels[d.n_labels]);
 			if (rc == 0)
 				d.n_labels++;
 		}
 		d.labels = labels;
 	} else {
-		return expected(p, "the attribute type INT, HEX, FLOAT, STRING or ENUM");
+		return dbc_expected(p, "the attribute type INT, HEX, FLOAT, STRING or ENUM");
 	}
 	if (rc == 0)
-		rc = expect_punct(p, ';', "';' after the attribute definition");
+		rc = dbc_expect_punct(p, ';', "';' after the attribute definition");
 	if (rc == 0 && hl_dbc_grow(&db->defs, &db->cap_defs, db->n_defs, sizeof(*db->defs)))
 		rc = -ENOMEM;
 	if (rc < 0) {
@@ -172,17 +172,17 @@ static int parse_attr_value(struct parser *p, const struct hl_dbc_attr_def *d,
 	switch (d->type) {
 	case HL_DBC_ATTR_INT:
 	case HL_DBC_ATTR_HEX:
-		rc = get_int(p, "an integer value", &v->i);
+		rc = dbc_get_int(p, "an integer value", &v->i);
 		v->f = (double)v->i;
 		break;
 	case HL_DBC_ATTR_FLOAT:
-		rc = get_number(p, "a number", &v->f);
+		rc = dbc_get_number(p, "a number", &v->f);
 		break;
 	case HL_DBC_ATTR_STRING:
-		return get_string(p, "a string value", &v->s);
+		return dbc_get_string(p, "a string value", &v->s);
 	case HL_DBC_ATTR_ENUM:
 		if (p->tok.kind == TOK_STRING) {
-			rc = get_string(p, "an enum label", &v->s);
+			rc = dbc_get_string(p, "an enum label", &v->s);
 			if (rc < 0)
 				return rc;
 			for (int i = 0; i < d->n_labels; i++)
@@ -191,16 +191,17 @@ static int parse_attr_value(struct parser *p, const struct hl_dbc_attr_def *d,
 					v->f = i;
 					return 0;
 				}
-			return fail_at(p, line, col,
-				       "expected one of the labels of '%s', found \"%s\"", d->name,
-				       v->s);
+			return dbc_fail_at(p, line, col,
+					   "expected one of the labels of '%s', found \"%s\"",
+					   d->name, v->s);
 		}
-		rc = get_int(p, "an enum index or label", &v->i);
+		rc = dbc_get_int(p, "an enum index or label", &v->i);
 		if (rc < 0)
 			return rc;
 		if (v->i < 0 || v->i >= d->n_labels)
-			return fail_at(p, line, col, "expected an index 0..%d of '%s', found %lld",
-				       d->n_labels - 1, d->name, (long long)v->i);
+			return dbc_fail_at(p, line, col,
+					   "expected an index 0..%d of '%s', found %lld",
+					   d->n_labels - 1, d->name, (long long)v->i);
 		v->s = d->labels[v->i];
 		v->f = (double)v->i;
 		return 0;
@@ -208,8 +209,8 @@ static int parse_attr_value(struct parser *p, const struct hl_dbc_attr_def *d,
 		return -EINVAL;
 	}
 	if (rc == 0 && d->min < d->max && (v->f < d->min || v->f > d->max))
-		return fail_at(p, line, col, "expected a value in [%g, %g] for '%s', found %g",
-			       d->min, d->max, d->name, v->f);
+		return dbc_fail_at(p, line, col, "expected a value in [%g, %g] for '%s', found %g",
+				   d->min, d->max, d->name, v->f);
 	return rc;
 }
 
@@ -218,17 +219,17 @@ static int get_def_ref(struct parser *p, int *ret)
 	const char *name = NULL; /* set by get_string only when it returns 0 */
 	int line = p->tok.line, col = p->tok.col, rc;
 
-	rc = get_string(p, "the attribute name string", &name);
+	rc = dbc_get_string(p, "the attribute name string", &name);
 	if (rc < 0)
 		return rc;
 	*ret = find_def(p->db, name);
 	if (*ret < 0)
-		return fail_at(p, line, col,
-			       "expected an attribute defined by BA_DEF_, found \"%s\"", name);
+		return dbc_fail_at(p, line, col,
+				   "expected an attribute defined by BA_DEF_, found \"%s\"", name);
 	return 0;
 }
 
-int parse_ba_def_def(struct parser *p)
+int dbc_parse_ba_def_def(struct parser *p)
 {
 	struct hl_dbc_attr_def *d;
 	int di, rc;
@@ -244,24 +245,26 @@ int parse_ba_def_def(struct parser *p)
 			label |= d->labels[i][0] == '\0';
 		if (!label) {
 			/* CANdb++ writes "" for an enum whose default was never chosen */
-			rc = irregular(p, p->tok.line, p->tok.col, "the attribute has no default",
-				       "expected one of the labels of '%s', found \"\"", d->name);
+			rc = dbc_irregular(p, p->tok.line, p->tok.col,
+					   "the attribute has no default",
+					   "expected one of the labels of '%s', found \"\"",
+					   d->name);
 			if (rc == 0)
-				rc = next(p);
+				rc = dbc_next(p);
 			if (rc == 0)
-				rc = expect_punct(p, ';', "';' after the default value");
+				rc = dbc_expect_punct(p, ';', "';' after the default value");
 			return rc;
 		}
 	}
 	rc = parse_attr_value(p, d, &d->def);
 	if (rc == 0)
-		rc = expect_punct(p, ';', "';' after the default value");
+		rc = dbc_expect_punct(p, ';', "';' after the default value");
 	if (rc == 0)
 		d->has_default = true;
 	return rc;
 }
 
-int parse_ba(struct parser *p)
+int dbc_parse_ba(struct parser *p)
 {
 	struct hl_dbc *db = p->db;
 	struct attr_assign a = { .index = -1, .signal = -1 };
@@ -278,8 +281,8 @@ int parse_ba(struct parser *p)
 	if (rc < 0)
 		return rc;
 	if (a.object != d->object)
-		return fail_at(p, line, col, "attribute '%s' is defined for %s, not for %s",
-			       d->name, object_name(d->object), object_name(a.object));
+		return dbc_fail_at(p, line, col, "attribute '%s' is defined for %s, not for %s",
+				   d->name, object_name(d->object), object_name(a.object));
 	switch (a.object) {
 	case HL_DBC_NODE: {
 		const char *w = NULL;
@@ -287,33 +290,33 @@ int parse_ba(struct parser *p)
 
 		line = p->tok.line;
 		col = p->tok.col;
-		rc = peek_ident(p, "a node name", &w, &wn);
+		rc = dbc_peek_ident(p, "a node name", &w, &wn);
 		if (rc < 0)
 			return rc;
-		a.index = find_node(db, w, wn);
+		a.index = dbc_find_node(db, w, wn);
 		if (a.index < 0) {
-			rc = irregular(p, line, col, "statement skipped",
-				       "expected a node listed in BU_, found '%.*s'",
-				       (int)(wn > 40 ? 40 : wn), w);
-			return skipped(p, rc < 0 ? rc : SKIP);
+			rc = dbc_irregular(p, line, col, "statement skipped",
+					   "expected a node listed in BU_, found '%.*s'",
+					   (int)(wn > 40 ? 40 : wn), w);
+			return dbc_skipped(p, rc < 0 ? rc : SKIP);
 		}
 		break;
 	}
 	case HL_DBC_MESSAGE:
-		rc = get_msg_ref(p, &a.index);
+		rc = dbc_get_msg_ref(p, &a.index);
 		if (rc != 0)
-			return skipped(p, rc);
+			return dbc_skipped(p, rc);
 		break;
 	case HL_DBC_SIGNAL:
-		rc = get_sig_ref(p, &a.index, &a.signal);
+		rc = dbc_get_sig_ref(p, &a.index, &a.signal);
 		if (rc != 0)
-			return skipped(p, rc);
+			return dbc_skipped(p, rc);
 		break;
 	case HL_DBC_ENVVAR: {
 		const char *w = NULL;
 		size_t wn = 0;
 
-		rc = peek_ident(p, "an environment variable name", &w, &wn);
+		rc = dbc_peek_ident(p, "an environment variable name", &w, &wn);
 		break;
 	}
 	default:
@@ -322,7 +325,7 @@ int parse_ba(struct parser *p)
 	if (rc == 0)
 		rc = parse_attr_value(p, d, &a.value);
 	if (rc == 0)
-		rc = expect_punct(p, ';', "';' after the attribute value");
+		rc = dbc_expect_punct(p, ';', "';' after the attribute value");
 	if (rc < 0 || a.object == HL_DBC_ENVVAR)
 		return rc;
 	/* kept in file order: lookups search from the end, so a later BA_ wins */
@@ -332,17 +335,17 @@ int parse_ba(struct parser *p)
 	return 0;
 }
 
-int parse_val(struct parser *p)
+int dbc_parse_val(struct parser *p)
 {
 	struct hl_dbc_signal *s;
 	struct hl_dbc_value_desc *v;
 	int mi, si, n, rc;
 
 	if (p->tok.kind == TOK_IDENT) /* an environment variable's values: not kept */
-		return skip_statement(p, p->tok.line);
-	rc = get_sig_ref(p, &mi, &si);
+		return dbc_skip_statement(p, p->tok.line);
+	rc = dbc_get_sig_ref(p, &mi, &si);
 	if (rc != 0)
-		return skipped(p, rc);
+		return dbc_skipped(p, rc);
 	rc = parse_value_descs(p, &v, &n);
 	if (rc < 0)
 		return rc;
@@ -353,33 +356,34 @@ int parse_val(struct parser *p)
 	return 0;
 }
 
-int parse_sig_valtype(struct parser *p)
+int dbc_parse_sig_valtype(struct parser *p)
 {
 	struct hl_dbc_signal *s;
 	int mi, si, line, col, rc;
 	uint64_t t;
 
-	rc = get_sig_ref(p, &mi, &si);
+	rc = dbc_get_sig_ref(p, &mi, &si);
 	if (rc != 0)
-		return skipped(p, rc);
-	rc = expect_punct(p, ':', "':' after the signal name");
+		return dbc_skipped(p, rc);
+	rc = dbc_expect_punct(p, ':', "':' after the signal name");
 	line = p->tok.line;
 	col = p->tok.col;
 	if (rc == 0)
-		rc = get_uint(p, "the value type 0 (integer), 1 (float) or 2 (double)", 2, &t);
+		rc = dbc_get_uint(p, "the value type 0 (integer), 1 (float) or 2 (double)", 2, &t);
 	if (rc == 0)
-		rc = expect_punct(p, ';', "';' after the value type");
+		rc = dbc_expect_punct(p, ';', "';' after the value type");
 	if (rc < 0)
 		return rc;
 	s = &((struct hl_dbc_signal *)p->db->msgs[mi].signals)[si];
 	if ((t == 1 && s->length != 32) || (t == 2 && s->length != 64))
-		return fail_at(p, line, col, "signal '%s' has %d bits; a %s needs %d", s->name,
-			       s->length, t == 1 ? "float (1)" : "double (2)", t == 1 ? 32 : 64);
+		return dbc_fail_at(p, line, col, "signal '%s' has %d bits; a %s needs %d", s->name,
+				   s->length, t == 1 ? "float (1)" : "double (2)",
+				   t == 1 ? 32 : 64);
 	s->type = t == 0 ? HL_DBC_INTEGER : t == 1 ? HL_DBC_FLOAT : HL_DBC_DOUBLE;
 	return 0;
 }
 
-int parse_sg_mul_val(struct parser *p, int kw_line, int kw_col)
+int dbc_parse_sg_mul_val(struct parser *p, int kw_line, int kw_col)
 {
 	struct hl_dbc *db = p->db;
 	struct hl_dbc_message *m;
@@ -389,55 +393,56 @@ int parse_sg_mul_val(struct parser *p, int kw_line, int kw_col)
 	size_t wn = 0;
 	int mi, si, mux, line, col, n = 0, cap = 0, rc;
 
-	rc = get_sig_ref(p, &mi, &si);
+	rc = dbc_get_sig_ref(p, &mi, &si);
 	if (rc != 0)
-		return skipped(p, rc);
+		return dbc_skipped(p, rc);
 	m = &db->msgs[mi];
 	s = &((struct hl_dbc_signal *)m->signals)[si];
 	line = p->tok.line;
 	col = p->tok.col;
-	rc = peek_ident(p, "the multiplexor signal's name", &w, &wn);
+	rc = dbc_peek_ident(p, "the multiplexor signal's name", &w, &wn);
 	if (rc < 0)
 		return rc;
-	mux = find_signal_n(m, w, wn);
+	mux = dbc_find_signal_n(m, w, wn);
 	if (mux < 0)
-		return fail_at(p, line, col, "expected a signal of message '%s', found '%.*s'",
-			       m->name, (int)(wn > 40 ? 40 : wn), w);
+		return dbc_fail_at(p, line, col, "expected a signal of message '%s', found '%.*s'",
+				   m->name, (int)(wn > 40 ? 40 : wn), w);
 	if (!m->signals[mux].is_multiplexor || mux == si)
-		return fail_at(p, line, col,
-			       "expected a multiplexor (M or m<n>M) of message '%s', found '%s'",
-			       m->name, m->signals[mux].name);
+		return dbc_fail_at(
+			p, line, col,
+			"expected a multiplexor (M or m<n>M) of message '%s', found '%s'", m->name,
+			m->signals[mux].name);
 	if (db->where[mi][si].mul_line)
-		return fail_at(p, kw_line, kw_col,
-			       "SG_MUL_VAL_ for signal '%s' given twice (line %d)", s->name,
-			       db->where[mi][si].mul_line);
-	while (rc == 0 && !is_punct(p, ';')) {
+		return dbc_fail_at(p, kw_line, kw_col,
+				   "SG_MUL_VAL_ for signal '%s' given twice (line %d)", s->name,
+				   db->where[mi][si].mul_line);
+	while (rc == 0 && !dbc_is_punct(p, ';')) {
 		uint64_t lo = 0, hi = 0;
 		int rl, rcol;
 
 		if (n > 0)
-			rc = expect_punct(p, ',', "',' or ';' after a range");
+			rc = dbc_expect_punct(p, ',', "',' or ';' after a range");
 		rl = p->tok.line;
 		rcol = p->tok.col;
 		if (rc == 0)
-			rc = get_uint(p, "a multiplexor value range lo-hi", UINT64_MAX, &lo);
+			rc = dbc_get_uint(p, "a multiplexor value range lo-hi", UINT64_MAX, &lo);
 		if (rc == 0)
-			rc = expect_punct(p, '-', "'-' inside the range lo-hi");
+			rc = dbc_expect_punct(p, '-', "'-' inside the range lo-hi");
 		if (rc == 0)
-			rc = get_uint(p, "the range's upper value", UINT64_MAX, &hi);
+			rc = dbc_get_uint(p, "the range's upper value", UINT64_MAX, &hi);
 		if (rc == 0 && hi < lo)
-			rc = fail_at(p, rl, rcol,
-				     "expected a range lo-hi with lo <= hi, found %llu-%llu",
-				     (unsigned long long)lo, (unsigned long long)hi);
+			rc = dbc_fail_at(p, rl, rcol,
+					 "expected a range lo-hi with lo <= hi, found %llu-%llu",
+					 (unsigned long long)lo, (unsigned long long)hi);
 		if (rc == 0 && hl_dbc_grow(&r, &cap, n, sizeof(*r)))
 			rc = -ENOMEM;
 		if (rc == 0)
 			r[n++] = (struct hl_dbc_mux_range){ lo, hi };
 	}
 	if (rc == 0 && n == 0)
-		rc = expected(p, "at least one multiplexor value range lo-hi");
+		rc = dbc_expected(p, "at least one multiplexor value range lo-hi");
 	if (rc == 0)
-		rc = next(p);
+		rc = dbc_next(p);
 	if (rc < 0) {
 		free(r);
 		return rc;
@@ -468,7 +473,7 @@ static void rename_node(const char **ref, const char *old, const char *name)
  * attributes SystemNodeLongSymbol, SystemMessageLongSymbol and SystemSignalLongSymbol: the long
  * name replaces the cut one once every reference has been resolved.
  */
-void apply_long_names(struct hl_dbc *db)
+void dbc_apply_long_names(struct hl_dbc *db)
 {
 	struct hl_dbc_attr_value v;
 	const char *name;

@@ -8,16 +8,16 @@
 
 #include "dbc/lexer.h"
 
-int parse_val_table(struct parser *p); /* VAL_TABLE_ */
-int parse_ba_def(struct parser *p); /* BA_DEF_ */
-int parse_ba_def_def(struct parser *p); /* BA_DEF_DEF_ */
-int parse_ba(struct parser *p); /* BA_ */
-int parse_val(struct parser *p); /* VAL_ */
-int parse_sig_valtype(struct parser *p); /* SIG_VALTYPE_ */
+int dbc_parse_val_table(struct parser *p); /* VAL_TABLE_ */
+int dbc_parse_ba_def(struct parser *p); /* BA_DEF_ */
+int dbc_parse_ba_def_def(struct parser *p); /* BA_DEF_DEF_ */
+int dbc_parse_ba(struct parser *p); /* BA_ */
+int dbc_parse_val(struct parser *p); /* VAL_ */
+int dbc_parse_sig_valtype(struct parser *p); /* SIG_VALTYPE_ */
 /* SG_MUL_VAL_; kw_line, kw_col: where its keyword is. */
-int parse_sg_mul_val(struct parser *p, int kw_line, int kw_col);
+int dbc_parse_sg_mul_val(struct parser *p, int kw_line, int kw_col);
 
 /* After parsing: CANdb++'s long names from the attributes replace the cut ones. */
-void apply_long_names(struct hl_dbc *db);
+void dbc_apply_long_names(struct hl_dbc *db);
 
 #endif

@@ -30,7 +30,7 @@ static bool starts_section(const char *s, const char *end)
 	return s - w >= 3 && s[-1] == '_' && s < end && (*s == ' ' || *s == ':');
 }
 
-int fail_at(struct parser *p, int line, int col, const char *fmt, ...)
+int dbc_fail_at(struct parser *p, int line, int col, const char *fmt, ...)
 {
 	va_list ap;
 
@@ -66,12 +66,12 @@ static void describe(const struct token *t, char *buf, size_t size)
 }
 
 /* "expected <what>, found <the current token>" at the current token. */
-int expected(struct parser *p, const char *what)
+int dbc_expected(struct parser *p, const char *what)
 {
 	char found[64];
 
 	describe(&p->tok, found, sizeof(found));
-	return fail_at(p, p->tok.line, p->tok.col, "expected %s, found %s", what, found);
+	return dbc_fail_at(p, p->tok.line, p->tok.col, "expected %s, found %s", what, found);
 }
 
 static void advance(struct parser *p)
@@ -90,13 +90,13 @@ static bool is_alpha(char c)
 	return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
 }
 
-bool is_digit(char c)
+bool dbc_is_digit(char c)
 {
 	return c >= '0' && c <= '9';
 }
 
 /* Reads the next token into p->tok. 0 or -EBADMSG for a character no DBC token starts with. */
-int next(struct parser *p)
+int dbc_next(struct parser *p)
 {
 	struct token *t = &p->tok;
 
@@ -121,15 +121,16 @@ int next(struct parser *p)
 		t->n = 0;
 	} else if (is_alpha(*p->s)) {
 		t->kind = TOK_IDENT;
-		while (p->s < p->end && (is_alpha(*p->s) || is_digit(*p->s)))
+		while (p->s < p->end && (is_alpha(*p->s) || dbc_is_digit(*p->s)))
 			advance(p);
-	} else if (is_digit(*p->s) || (*p->s == '.' && p->s + 1 < p->end && is_digit(p->s[1]))) {
+	} else if (dbc_is_digit(*p->s) ||
+		   (*p->s == '.' && p->s + 1 < p->end && dbc_is_digit(p->s[1]))) {
 		t->kind = TOK_NUMBER;
-		while (p->s < p->end && is_digit(*p->s))
+		while (p->s < p->end && dbc_is_digit(*p->s))
 			advance(p);
 		if (p->s < p->end && *p->s == '.') {
 			advance(p);
-			while (p->s < p->end && is_digit(*p->s))
+			while (p->s < p->end && dbc_is_digit(*p->s))
 				advance(p);
 		}
 		if (p->s < p->end && (*p->s == 'e' || *p->s == 'E')) {
@@ -137,10 +138,10 @@ int next(struct parser *p)
 
 			if (e < p->end && (*e == '+' || *e == '-'))
 				e++;
-			if (e < p->end && is_digit(*e)) {
+			if (e < p->end && dbc_is_digit(*e)) {
 				while (p->s < e)
 					advance(p);
-				while (p->s < p->end && is_digit(*p->s))
+				while (p->s < p->end && dbc_is_digit(*p->s))
 					advance(p);
 			}
 		}
@@ -159,13 +160,13 @@ int next(struct parser *p)
 			advance(p);
 		}
 		if (p->s == p->end && p->open_line)
-			return fail_at(
+			return dbc_fail_at(
 				p, p->open_line, p->open_col,
 				"unterminated string: expected a closing '\"' before line %d, where a section starts",
 				p->open_swallowed);
 		if (p->s == p->end)
-			return fail_at(p, t->line, t->col,
-				       "unterminated string: expected a closing '\"'");
+			return dbc_fail_at(p, t->line, t->col,
+					   "unterminated string: expected a closing '\"'");
 		t->n = p->s - t->p;
 		t->end_line = p->line;
 		advance(p);
@@ -177,63 +178,63 @@ int next(struct parser *p)
 		unsigned char c = *p->s;
 
 		if (c >= 0x21 && c < 0x7f)
-			return fail_at(p, t->line, t->col, "unexpected character '%c'", c);
-		return fail_at(p, t->line, t->col, "unexpected byte 0x%02x", c);
+			return dbc_fail_at(p, t->line, t->col, "unexpected character '%c'", c);
+		return dbc_fail_at(p, t->line, t->col, "unexpected byte 0x%02x", c);
 	}
 	t->n = p->s - t->p;
 	t->end_line = p->line;
 	return 0;
 }
 
-bool is_punct(const struct parser *p, char c)
+bool dbc_is_punct(const struct parser *p, char c)
 {
 	return p->tok.kind == TOK_PUNCT && p->tok.p[0] == c;
 }
 
-bool is_word(const struct parser *p, const char *w)
+bool dbc_is_word(const struct parser *p, const char *w)
 {
 	return p->tok.kind == TOK_IDENT && p->tok.n == strlen(w) &&
 	       memcmp(p->tok.p, w, p->tok.n) == 0;
 }
 
-int expect_punct(struct parser *p, char c, const char *what)
+int dbc_expect_punct(struct parser *p, char c, const char *what)
 {
-	if (!is_punct(p, c))
-		return expected(p, what);
-	return next(p);
+	if (!dbc_is_punct(p, c))
+		return dbc_expected(p, what);
+	return dbc_next(p);
 }
 
 /* An identifier, copied into the arena. */
-int get_ident(struct parser *p, const char *what, const char **ret)
+int dbc_get_ident(struct parser *p, const char *what, const char **ret)
 {
 	char *s;
 
 	if (p->tok.kind != TOK_IDENT)
-		return expected(p, what);
+		return dbc_expected(p, what);
 	s = hl_dbc_strndup(p->db, p->tok.p, p->tok.n);
 	if (!s)
 		return -ENOMEM;
 	*ret = s;
-	return next(p);
+	return dbc_next(p);
 }
 
 /* An identifier compared in place: 0 and its text and length. */
-int peek_ident(struct parser *p, const char *what, const char **ret_p, size_t *ret_n)
+int dbc_peek_ident(struct parser *p, const char *what, const char **ret_p, size_t *ret_n)
 {
 	if (p->tok.kind != TOK_IDENT)
-		return expected(p, what);
+		return dbc_expected(p, what);
 	*ret_p = p->tok.p;
 	*ret_n = p->tok.n;
-	return next(p);
+	return dbc_next(p);
 }
 
-int get_string(struct parser *p, const char *what, const char **ret)
+int dbc_get_string(struct parser *p, const char *what, const char **ret)
 {
 	char *s;
 	size_t n = 0;
 
 	if (p->tok.kind != TOK_STRING)
-		return expected(p, what);
+		return dbc_expected(p, what);
 	s = hl_dbc_strndup(p->db, p->tok.p, p->tok.n);
 	if (!s)
 		return -ENOMEM;
@@ -244,7 +245,7 @@ int get_string(struct parser *p, const char *what, const char **ret)
 	}
 	s[n] = '\0';
 	*ret = s;
-	return next(p);
+	return dbc_next(p);
 }
 
 /* A number token written as a real (1E+3, 8.0) that is an integer 0..max: lenient, read with a
@@ -256,39 +257,39 @@ static int real_as_uint(struct parser *p, const char *what, uint64_t max, uint64
 	int rc;
 
 	if (p->strict || p->tok.n >= sizeof(buf))
-		return expected(p, what);
+		return dbc_expected(p, what);
 	memcpy(buf, p->tok.p, p->tok.n);
 	buf[p->tok.n] = '\0';
 	d = strtod(buf, NULL);
 	if (d != nearbyint(d) || d >= 0x1p64 || (uint64_t)d > max)
-		return expected(p, what);
-	rc = irregular(p, p->tok.line, p->tok.col, "read as an integer",
-		       "expected %s, found number %s", what, buf);
+		return dbc_expected(p, what);
+	rc = dbc_irregular(p, p->tok.line, p->tok.col, "read as an integer",
+			   "expected %s, found number %s", what, buf);
 	if (rc < 0)
 		return rc;
 	*ret = (uint64_t)d;
-	return next(p);
+	return dbc_next(p);
 }
 
 /* An unsigned integer token up to max. */
-int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
+int dbc_get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
 {
 	uint64_t v = 0;
 
 	if (p->tok.kind != TOK_NUMBER)
-		return expected(p, what);
+		return dbc_expected(p, what);
 	for (size_t i = 0; i < p->tok.n; i++) {
-		if (!is_digit(p->tok.p[i]))
+		if (!dbc_is_digit(p->tok.p[i]))
 			return real_as_uint(p, what, max, ret);
 		if (v > (UINT64_MAX - 9) / 10 || v * 10 + (p->tok.p[i] - '0') > max)
-			return fail_at(p, p->tok.line, p->tok.col,
-				       "expected %s, found %.*s (above %llu)", what,
-				       (int)(p->tok.n > 40 ? 40 : p->tok.n), p->tok.p,
-				       (unsigned long long)max);
+			return dbc_fail_at(p, p->tok.line, p->tok.col,
+					   "expected %s, found %.*s (above %llu)", what,
+					   (int)(p->tok.n > 40 ? 40 : p->tok.n), p->tok.p,
+					   (unsigned long long)max);
 		v = v * 10 + (p->tok.p[i] - '0');
 	}
 	*ret = v;
-	return next(p);
+	return dbc_next(p);
 }
 
 /*
@@ -296,20 +297,20 @@ int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret)
  * there is one. Lenient, an integer written as a real (9.22337203685478E+018, -92E+1, 2.0) is
  * read rounded to the nearest integer, and one beyond 63 bits is clamped, each with a warning.
  */
-int get_int(struct parser *p, const char *what, int64_t *ret)
+int dbc_get_int(struct parser *p, const char *what, int64_t *ret)
 {
 	int line = p->tok.line, col = p->tok.col, n, rc;
 	bool neg = false, plain = true;
 	uint64_t v = 0, max;
 	char text[48];
 
-	if (is_punct(p, '-') || is_punct(p, '+')) {
-		neg = is_punct(p, '-');
-		if ((rc = next(p)) < 0)
+	if (dbc_is_punct(p, '-') || dbc_is_punct(p, '+')) {
+		neg = dbc_is_punct(p, '-');
+		if ((rc = dbc_next(p)) < 0)
 			return rc;
 	}
 	if (p->tok.kind != TOK_NUMBER) {
-		rc = expected(p, what);
+		rc = dbc_expected(p, what);
 		p->err->line = line;
 		p->err->column = col;
 		return rc;
@@ -318,14 +319,15 @@ int get_int(struct parser *p, const char *what, int64_t *ret)
 	snprintf(text, sizeof(text), "%.*s", n, p->tok.p); /* as errors always quoted it */
 	max = neg ? (uint64_t)INT64_MAX + 1 : (uint64_t)INT64_MAX;
 	for (size_t i = 0; i < p->tok.n && plain; i++)
-		plain = is_digit(p->tok.p[i]);
+		plain = dbc_is_digit(p->tok.p[i]);
 	if (!plain) {
 		char buf[64];
 		double d;
 
 		if (p->tok.n >= sizeof(buf))
-			return fail_at(p, line, col, "expected %s, found a number of %zu digits",
-				       what, p->tok.n);
+			return dbc_fail_at(p, line, col,
+					   "expected %s, found a number of %zu digits", what,
+					   p->tok.n);
 		memcpy(buf, p->tok.p, p->tok.n);
 		buf[p->tok.n] = '\0';
 		d = nearbyint(strtod(buf, NULL));
@@ -335,16 +337,16 @@ int get_int(struct parser *p, const char *what, int64_t *ret)
 			*ret = INT64_MIN;
 		else
 			*ret = neg ? -(int64_t)d : (int64_t)d;
-		rc = irregular(p, line, col, "read as an integer", "expected %s, found number %s",
-			       what, text);
-		return rc < 0 ? rc : next(p);
+		rc = dbc_irregular(p, line, col, "read as an integer",
+				   "expected %s, found number %s", what, text);
+		return rc < 0 ? rc : dbc_next(p);
 	}
 	for (size_t i = 0; i < p->tok.n; i++) {
 		if (v > (UINT64_MAX - 9) / 10 || v * 10 + (p->tok.p[i] - '0') > max) {
 			v = max;
-			rc = irregular(p, line, col, "clamped to the 64-bit range",
-				       "expected %s, found %s (above %llu)", what, text,
-				       (unsigned long long)max);
+			rc = dbc_irregular(p, line, col, "clamped to the 64-bit range",
+					   "expected %s, found %s (above %llu)", what, text,
+					   (unsigned long long)max);
 			if (rc < 0)
 				return rc;
 			break;
@@ -352,37 +354,37 @@ int get_int(struct parser *p, const char *what, int64_t *ret)
 		v = v * 10 + (p->tok.p[i] - '0');
 	}
 	*ret = neg ? (int64_t)(0 - v) : (int64_t)v;
-	return next(p);
+	return dbc_next(p);
 }
 
 /* A real number: optional sign, digits, fraction, exponent. */
-int get_number(struct parser *p, const char *what, double *ret)
+int dbc_get_number(struct parser *p, const char *what, double *ret)
 {
 	char buf[64];
 	bool neg = false;
 	int line = p->tok.line, col = p->tok.col, rc; /* errors point at the sign */
 
-	if (is_punct(p, '-') || is_punct(p, '+')) {
-		neg = is_punct(p, '-');
-		if ((rc = next(p)) < 0)
+	if (dbc_is_punct(p, '-') || dbc_is_punct(p, '+')) {
+		neg = dbc_is_punct(p, '-');
+		if ((rc = dbc_next(p)) < 0)
 			return rc;
 	}
 	if (p->tok.kind != TOK_NUMBER) {
-		rc = expected(p, what);
+		rc = dbc_expected(p, what);
 		p->err->line = line;
 		p->err->column = col;
 		return rc;
 	}
 	if (p->tok.n >= sizeof(buf))
-		return fail_at(p, line, col, "expected %s, found a number of %zu digits", what,
-			       p->tok.n);
+		return dbc_fail_at(p, line, col, "expected %s, found a number of %zu digits", what,
+				   p->tok.n);
 	memcpy(buf, p->tok.p, p->tok.n);
 	buf[p->tok.n] = '\0';
 	*ret = neg ? -strtod(buf, NULL) : strtod(buf, NULL);
-	return next(p);
+	return dbc_next(p);
 }
 
-int add_warning(struct parser *p, int line, int col, const char *msg)
+int dbc_add_warning(struct parser *p, int line, int col, const char *msg)
 {
 	struct hl_dbc *db = p->db;
 
@@ -401,7 +403,7 @@ int add_warning(struct parser *p, int line, int col, const char *msg)
  * Something real files do that the DBC format does not allow. Strict: the error fmt describes
  * (-EBADMSG). Lenient: the same text plus what was done instead, as a warning; 0.
  */
-int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
+int dbc_irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
 {
 	char msg[512];
 	va_list ap;
@@ -411,15 +413,15 @@ int irregular(struct parser *p, int line, int col, const char *action, const cha
 	n = vsnprintf(msg, sizeof(msg), fmt, ap);
 	va_end(ap);
 	if (p->strict)
-		return fail_at(p, line, col, "%s", msg);
+		return dbc_fail_at(p, line, col, "%s", msg);
 	if (n >= 0 && (size_t)n < sizeof(msg))
 		snprintf(msg + n, sizeof(msg) - n, ": %s", action);
-	return add_warning(p, line, col, msg);
+	return dbc_add_warning(p, line, col, msg);
 }
 
 /* --- lookups while parsing --- */
 
-int find_node(const struct hl_dbc *db, const char *s, size_t n)
+int dbc_find_node(const struct hl_dbc *db, const char *s, size_t n)
 {
 	for (int i = 0; i < db->n_nodes; i++)
 		if (strlen(db->nodes[i].name) == n && memcmp(db->nodes[i].name, s, n) == 0)
@@ -427,7 +429,7 @@ int find_node(const struct hl_dbc *db, const char *s, size_t n)
 	return -1;
 }
 
-int find_signal_n(const struct hl_dbc_message *m, const char *s, size_t n)
+int dbc_find_signal_n(const struct hl_dbc_message *m, const char *s, size_t n)
 {
 	for (int i = 0; i < m->n_signals; i++)
 		if (strlen(m->signals[i].name) == n && memcmp(m->signals[i].name, s, n) == 0)
@@ -437,13 +439,13 @@ int find_signal_n(const struct hl_dbc_message *m, const char *s, size_t n)
 
 /* A message ID as the file writes it (bit 31 for extended) that must name a BO_: 0, or SKIP
  * (lenient, warned) when none does, the statement then to be skipped. */
-int get_msg_ref(struct parser *p, int *ret)
+int dbc_get_msg_ref(struct parser *p, int *ret)
 {
 	struct hl_dbc *db = p->db;
 	int line = p->tok.line, col = p->tok.col, rc;
 	uint64_t id;
 
-	rc = get_uint(p, "a message ID", UINT32_MAX, &id);
+	rc = dbc_get_uint(p, "a message ID", UINT32_MAX, &id);
 	if (rc < 0)
 		return rc;
 	if (p->last_msg >= 0 && p->last_msg < db->n_msgs && db->msgs[p->last_msg].can_id == id) {
@@ -455,55 +457,55 @@ int get_msg_ref(struct parser *p, int *ret)
 			*ret = p->last_msg = i;
 			return 0;
 		}
-	rc = irregular(p, line, col, "statement skipped",
-		       "expected the ID of a message defined by BO_, found %llu",
-		       (unsigned long long)id);
+	rc = dbc_irregular(p, line, col, "statement skipped",
+			   "expected the ID of a message defined by BO_, found %llu",
+			   (unsigned long long)id);
 	return rc < 0 ? rc : SKIP;
 }
 
 /* A message ID and a signal name in it: 0, SKIP (as get_msg_ref) or -errno. */
-int get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig)
+int dbc_get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig)
 {
 	const char *name = NULL;
 	size_t n = 0;
 	int line, col, rc;
 
-	rc = get_msg_ref(p, ret_msg);
+	rc = dbc_get_msg_ref(p, ret_msg);
 	if (rc != 0)
 		return rc;
 	line = p->tok.line;
 	col = p->tok.col;
-	rc = peek_ident(p, "a signal name", &name, &n);
+	rc = dbc_peek_ident(p, "a signal name", &name, &n);
 	if (rc < 0)
 		return rc;
-	*ret_sig = find_signal_n(&p->db->msgs[*ret_msg], name, n);
+	*ret_sig = dbc_find_signal_n(&p->db->msgs[*ret_msg], name, n);
 	if (*ret_sig < 0) {
-		rc = irregular(p, line, col, "statement skipped",
-			       "expected a signal of message '%s', found '%.*s'",
-			       p->db->msgs[*ret_msg].name, (int)(n > 40 ? 40 : n), name);
+		rc = dbc_irregular(p, line, col, "statement skipped",
+				   "expected a signal of message '%s', found '%.*s'",
+				   p->db->msgs[*ret_msg].name, (int)(n > 40 ? 40 : n), name);
 		return rc < 0 ? rc : SKIP;
 	}
 	return 0;
 }
 
 /* Skips to the end of a statement: past its ';', or to the next line starting with a word. */
-int skip_statement(struct parser *p, int start_line)
+int dbc_skip_statement(struct parser *p, int start_line)
 {
 	int rc;
 
 	while (p->tok.kind != TOK_EOF) {
-		if (is_punct(p, ';'))
-			return next(p);
+		if (dbc_is_punct(p, ';'))
+			return dbc_next(p);
 		if (p->tok.kind == TOK_IDENT && p->tok.col == 1 && p->tok.line > start_line)
 			return 0;
-		if ((rc = next(p)) < 0)
+		if ((rc = dbc_next(p)) < 0)
 			return rc;
 	}
 	return 0;
 }
 
 /* After a reference that returned SKIP: the rest of the statement is skipped. */
-int skipped(struct parser *p, int rc)
+int dbc_skipped(struct parser *p, int rc)
 {
-	return rc == SKIP ? skip_statement(p, p->tok.line) : rc;
+	return rc == SKIP ? dbc_skip_statement(p, p->tok.line) : rc;
 }

@@ -47,47 +47,47 @@ struct parser {
 /* --- errors and warnings --- */
 
 /* The error fmt at line:col; -EBADMSG. */
-int fail_at(struct parser *p, int line, int col, const char *fmt, ...)
+int dbc_fail_at(struct parser *p, int line, int col, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
 /* "expected <what>, found <the current token>" at the current token; -EBADMSG. */
-int expected(struct parser *p, const char *what);
-int add_warning(struct parser *p, int line, int col, const char *msg);
+int dbc_expected(struct parser *p, const char *what);
+int dbc_add_warning(struct parser *p, int line, int col, const char *msg);
 /* Strict: the error fmt describes. Lenient: a warning of fmt plus action; 0. */
-int irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
+int dbc_irregular(struct parser *p, int line, int col, const char *action, const char *fmt, ...)
 	__attribute__((format(printf, 5, 6)));
 
 /* --- tokens --- */
 
-bool is_digit(char c);
+bool dbc_is_digit(char c);
 /* Reads the next token into p->tok. */
-int next(struct parser *p);
-bool is_punct(const struct parser *p, char c);
-bool is_word(const struct parser *p, const char *w);
-int expect_punct(struct parser *p, char c, const char *what);
+int dbc_next(struct parser *p);
+bool dbc_is_punct(const struct parser *p, char c);
+bool dbc_is_word(const struct parser *p, const char *w);
+int dbc_expect_punct(struct parser *p, char c, const char *what);
 /* An identifier, copied into the arena. */
-int get_ident(struct parser *p, const char *what, const char **ret);
+int dbc_get_ident(struct parser *p, const char *what, const char **ret);
 /* An identifier compared in place: its text and length. */
-int peek_ident(struct parser *p, const char *what, const char **ret_p, size_t *ret_n);
+int dbc_peek_ident(struct parser *p, const char *what, const char **ret_p, size_t *ret_n);
 /* A string, unescaped into the arena. */
-int get_string(struct parser *p, const char *what, const char **ret);
+int dbc_get_string(struct parser *p, const char *what, const char **ret);
 /* An unsigned integer token up to max. */
-int get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret);
+int dbc_get_uint(struct parser *p, const char *what, uint64_t max, uint64_t *ret);
 /* A signed integer within int64 (lenient: reals rounded, overflow clamped, warned). */
-int get_int(struct parser *p, const char *what, int64_t *ret);
+int dbc_get_int(struct parser *p, const char *what, int64_t *ret);
 /* A real number: optional sign, digits, fraction, exponent. */
-int get_number(struct parser *p, const char *what, double *ret);
+int dbc_get_number(struct parser *p, const char *what, double *ret);
 
 /* --- lookups while parsing --- */
 
-int find_node(const struct hl_dbc *db, const char *s, size_t n);
-int find_signal_n(const struct hl_dbc_message *m, const char *s, size_t n);
+int dbc_find_node(const struct hl_dbc *db, const char *s, size_t n);
+int dbc_find_signal_n(const struct hl_dbc_message *m, const char *s, size_t n);
 /* A message ID that must name a BO_: 0, SKIP (lenient, warned) or -errno. */
-int get_msg_ref(struct parser *p, int *ret);
+int dbc_get_msg_ref(struct parser *p, int *ret);
 /* A message ID and a signal name in it: 0, SKIP or -errno. */
-int get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig);
+int dbc_get_sig_ref(struct parser *p, int *ret_msg, int *ret_sig);
 /* Skips to the end of a statement: past its ';', or to the next line starting with a word. */
-int skip_statement(struct parser *p, int start_line);
+int dbc_skip_statement(struct parser *p, int start_line);
 /* After a reference that returned SKIP: the rest of the statement is skipped. */
-int skipped(struct parser *p, int rc);
+int dbc_skipped(struct parser *p, int rc);
 
 #endif

@@ -24,23 +24,23 @@ static int warn(struct parser *p, int line, int col, const char *fmt, const char
 	char msg[160];
 
 	snprintf(msg, sizeof(msg), fmt, arg);
-	return add_warning(p, line, col, msg);
+	return dbc_add_warning(p, line, col, msg);
 }
 
 /* --- sections --- */
 
 static int parse_version(struct parser *p)
 {
-	return get_string(p, "the version string after VERSION", &p->db->version);
+	return dbc_get_string(p, "the version string after VERSION", &p->db->version);
 }
 
 static int parse_ns(struct parser *p)
 {
-	int rc = expect_punct(p, ':', "':' after NS_");
+	int rc = dbc_expect_punct(p, ':', "':' after NS_");
 
 	/* the symbol list: indented words */
 	while (rc == 0 && p->tok.kind == TOK_IDENT && p->tok.col > 1)
-		rc = next(p);
+		rc = dbc_next(p);
 	return rc;
 }
 
@@ -48,24 +48,24 @@ static int parse_bs(struct parser *p)
 {
 	int line = p->tok.line, rc;
 
-	rc = expect_punct(p, ':', "':' after BS_");
+	rc = dbc_expect_punct(p, ':', "':' after BS_");
 	/* optional "baudrate : BTR1 , BTR2", obsolete: read to the end of the line */
 	while (rc == 0 && p->tok.kind != TOK_EOF && p->tok.line == line)
-		rc = next(p);
+		rc = dbc_next(p);
 	return rc;
 }
 
 /* A word that starts a section: every DBC keyword ends in '_' but VERSION and FILTER. */
 static bool is_section_word(const struct parser *p)
 {
-	return p->tok.kind == TOK_IDENT &&
-	       (p->tok.p[p->tok.n - 1] == '_' || is_word(p, "VERSION") || is_word(p, "FILTER"));
+	return p->tok.kind == TOK_IDENT && (p->tok.p[p->tok.n - 1] == '_' ||
+					    dbc_is_word(p, "VERSION") || dbc_is_word(p, "FILTER"));
 }
 
 static int parse_bu(struct parser *p)
 {
 	struct hl_dbc *db = p->db;
-	int line = p->tok.line, rc = expect_punct(p, ':', "':' after BU_");
+	int line = p->tok.line, rc = dbc_expect_punct(p, ':', "':' after BU_");
 	bool continued = false;
 
 	while (rc == 0 && p->tok.kind == TOK_IDENT) {
@@ -80,24 +80,24 @@ static int parse_bu(struct parser *p)
 					msg, sizeof(msg),
 					"node names of BU_ (line %d) continue on the next lines: read as nodes",
 					line);
-				rc = add_warning(p, p->tok.line, p->tok.col, msg);
+				rc = dbc_add_warning(p, p->tok.line, p->tok.col, msg);
 				if (rc < 0)
 					return rc;
 				continued = true;
 			}
 		}
-		if (find_node(db, p->tok.p, p->tok.n) >= 0) {
-			rc = irregular(p, p->tok.line, p->tok.col, "read once",
-				       "node '%.*s' listed twice",
-				       (int)(p->tok.n > 40 ? 40 : p->tok.n), p->tok.p);
+		if (dbc_find_node(db, p->tok.p, p->tok.n) >= 0) {
+			rc = dbc_irregular(p, p->tok.line, p->tok.col, "read once",
+					   "node '%.*s' listed twice",
+					   (int)(p->tok.n > 40 ? 40 : p->tok.n), p->tok.p);
 			if (rc == 0)
-				rc = next(p);
+				rc = dbc_next(p);
 			continue;
 		}
 		if (hl_dbc_grow(&db->nodes, &db->cap_nodes, db->n_nodes, sizeof(*db->nodes)))
 			return -ENOMEM;
 		db->nodes[db->n_nodes] = (struct node){ 0 };
-		rc = get_ident(p, "a node name", &db->nodes[db->n_nodes].name);
+		rc = dbc_get_ident(p, "a node name", &db->nodes[db->n_nodes].name);
 		db->n_nodes++;
 	}
 	return rc;
@@ -112,7 +112,7 @@ static int parse_bo(struct parser *p)
 	const char *name = NULL, *tx = NULL;
 	bool independent = false;
 
-	rc = get_uint(p, "a message ID", UINT32_MAX, &id);
+	rc = dbc_get_uint(p, "a message ID", UINT32_MAX, &id);
 	if (rc < 0)
 		return rc;
 	if (id == 0xC0000000u) {
@@ -120,7 +120,7 @@ static int parse_bo(struct parser *p)
 		independent = true;
 	} else if (id & 0x40000000u) {
 		/* the same pseudo message as other tools write it: bit 30 without bit 31 */
-		rc = irregular(
+		rc = dbc_irregular(
 			p, id_line, id_col,
 			"read as a message never on the bus (as VECTOR__INDEPENDENT_SIG_MSG)",
 			(id & HL_DBC_EFF_FLAG) ?
@@ -132,35 +132,38 @@ static int parse_bo(struct parser *p)
 		independent = true;
 	} else if (id & HL_DBC_EFF_FLAG) {
 		if (id & 0x20000000u)
-			return fail_at(p, id_line, id_col,
-				       "expected a 29-bit extended ID with bit 31 set, found %llu",
-				       (unsigned long long)id);
+			return dbc_fail_at(
+				p, id_line, id_col,
+				"expected a 29-bit extended ID with bit 31 set, found %llu",
+				(unsigned long long)id);
 	} else if (id > 0x7ff) {
-		return fail_at(
+		return dbc_fail_at(
 			p, id_line, id_col,
 			"expected a standard ID 0..2047 (extended IDs have bit 31 set), found %llu",
 			(unsigned long long)id);
 	}
 	for (int i = 0; i < db->n_msgs; i++)
 		if (db->msgs[i].can_id == id)
-			return fail_at(p, id_line, id_col,
-				       "message ID %llu already used by '%s' (line %d)",
-				       (unsigned long long)id, db->msgs[i].name, db->msgs[i].line);
+			return dbc_fail_at(p, id_line, id_col,
+					   "message ID %llu already used by '%s' (line %d)",
+					   (unsigned long long)id, db->msgs[i].name,
+					   db->msgs[i].line);
 	name_line = p->tok.line;
 	name_col = p->tok.col;
-	rc = get_ident(p, "the message name", &name);
+	rc = dbc_get_ident(p, "the message name", &name);
 	if (rc < 0)
 		return rc;
 	for (int i = 0; i < db->n_msgs; i++)
 		if (strcmp(db->msgs[i].name, name) == 0)
-			return fail_at(p, name_line, name_col,
-				       "message name '%s' already used (line %d)", name,
-				       db->msgs[i].line);
-	rc = expect_punct(p, ':', "':' after the message name");
+			return dbc_fail_at(p, name_line, name_col,
+					   "message name '%s' already used (line %d)", name,
+					   db->msgs[i].line);
+	rc = dbc_expect_punct(p, ':', "':' after the message name");
 	if (rc == 0)
-		rc = get_uint(p, "the message size in bytes (0..64)", HL_DBC_MAX_PAYLOAD, &size);
+		rc = dbc_get_uint(p, "the message size in bytes (0..64)", HL_DBC_MAX_PAYLOAD,
+				  &size);
 	if (rc == 0)
-		rc = get_ident(p, "the transmitting node (or Vector__XXX)", &tx);
+		rc = dbc_get_ident(p, "the transmitting node (or Vector__XXX)", &tx);
 	if (rc < 0)
 		return rc;
 	{
@@ -212,15 +215,15 @@ static int parse_sg(struct parser *p, int sg_line)
 	double factor = 1, offset = 0, min = 0, max = 0;
 
 	if (mi < 0)
-		return fail_at(p, sg_line, 1,
-			       "SG_ outside a message: expected a BO_ line before it");
+		return dbc_fail_at(p, sg_line, 1,
+				   "SG_ outside a message: expected a BO_ line before it");
 	m = &db->msgs[mi];
-	rc = get_ident(p, "the signal name", &name);
+	rc = dbc_get_ident(p, "the signal name", &name);
 	if (rc < 0)
 		return rc;
-	if (find_signal_n(m, name, strlen(name)) >= 0)
-		return fail_at(p, sg_line, name_col, "signal '%s' already defined in message '%s'",
-			       name, m->name);
+	if (dbc_find_signal_n(m, name, strlen(name)) >= 0)
+		return dbc_fail_at(p, sg_line, name_col,
+				   "signal '%s' already defined in message '%s'", name, m->name);
 	where_line = p->tok.line;
 	where_col = p->tok.col;
 	if (p->tok.kind == TOK_IDENT) {
@@ -231,15 +234,15 @@ static int parse_sg(struct parser *p, int sg_line)
 			is_mux = true;
 		} else if (n == 1 && t[0] == 'm') {
 			/* a bare m, as some generators write it: no value to select the signal by */
-			rc = irregular(
+			rc = dbc_irregular(
 				p, where_line, where_col, "read as a signal always present",
 				"expected ':' or a multiplex indicator (M, m<n>, m<n>M), found 'm'");
 			if (rc < 0)
 				return rc;
 			where_col = name_col;
-		} else if (t[0] == 'm' && n >= 2 && is_digit(t[1])) {
+		} else if (t[0] == 'm' && n >= 2 && dbc_is_digit(t[1])) {
 			has_value = true;
-			while (i < n && is_digit(t[i]) && i < 20) {
+			while (i < n && dbc_is_digit(t[i]) && i < 20) {
 				mux_value = mux_value * 10 + (t[i] - '0');
 				i++;
 			}
@@ -248,78 +251,80 @@ static int parse_sg(struct parser *p, int sg_line)
 				i++;
 			}
 			if (i != n || n > 20)
-				return expected(p, "':' or a multiplex indicator (M, m<n>, m<n>M)");
+				return dbc_expected(
+					p, "':' or a multiplex indicator (M, m<n>, m<n>M)");
 		} else {
-			return expected(p, "':' or a multiplex indicator (M, m<n>, m<n>M)");
+			return dbc_expected(p, "':' or a multiplex indicator (M, m<n>, m<n>M)");
 		}
-		if ((rc = next(p)) < 0)
+		if ((rc = dbc_next(p)) < 0)
 			return rc;
 	} else {
 		where_col = name_col;
 	}
-	rc = expect_punct(p, ':', "':' after the signal name");
+	rc = dbc_expect_punct(p, ':', "':' after the signal name");
 	if (rc < 0)
 		return rc;
 	start_line = p->tok.line;
 	start_col = p->tok.col;
-	rc = get_uint(p, "the start bit (0..511)", 8 * HL_DBC_MAX_PAYLOAD - 1, &start);
+	rc = dbc_get_uint(p, "the start bit (0..511)", 8 * HL_DBC_MAX_PAYLOAD - 1, &start);
 	if (rc == 0)
-		rc = expect_punct(p, '|', "'|' between start bit and length");
+		rc = dbc_expect_punct(p, '|', "'|' between start bit and length");
 	len_line = p->tok.line;
 	len_col = p->tok.col;
 	if (rc == 0)
-		rc = get_uint(p, "the length in bits (1..64)", 64, &len);
+		rc = dbc_get_uint(p, "the length in bits (1..64)", 64, &len);
 	if (rc == 0 && len == 0)
-		return fail_at(p, len_line, len_col,
-			       "expected the length in bits (1..64), found 0");
+		return dbc_fail_at(p, len_line, len_col,
+				   "expected the length in bits (1..64), found 0");
 	if (rc == 0)
-		rc = expect_punct(p, '@', "'@' before the byte order");
+		rc = dbc_expect_punct(p, '@', "'@' before the byte order");
 	if (rc == 0 && (p->tok.kind != TOK_NUMBER || p->tok.n != 1 ||
 			(p->tok.p[0] != '0' && p->tok.p[0] != '1')))
-		return expected(p, "the byte order 0 (Motorola) or 1 (Intel) after '@'");
+		return dbc_expected(p, "the byte order 0 (Motorola) or 1 (Intel) after '@'");
 	if (rc == 0) {
 		order = p->tok.p[0] - '0';
-		rc = next(p);
+		rc = dbc_next(p);
 	}
-	if (rc == 0 && !is_punct(p, '+') && !is_punct(p, '-'))
-		return expected(p, "'+' (unsigned) or '-' (signed) after the byte order");
+	if (rc == 0 && !dbc_is_punct(p, '+') && !dbc_is_punct(p, '-'))
+		return dbc_expected(p, "'+' (unsigned) or '-' (signed) after the byte order");
 	if (rc == 0) {
-		is_signed = is_punct(p, '-');
-		rc = next(p);
+		is_signed = dbc_is_punct(p, '-');
+		rc = dbc_next(p);
 	}
 	if (rc == 0)
-		rc = expect_punct(p, '(', "'(' before factor and offset");
-	if (rc == 0 && (p->tok.kind == TOK_NUMBER || is_punct(p, '-') || is_punct(p, '+'))) {
+		rc = dbc_expect_punct(p, '(', "'(' before factor and offset");
+	if (rc == 0 &&
+	    (p->tok.kind == TOK_NUMBER || dbc_is_punct(p, '-') || dbc_is_punct(p, '+'))) {
 		int fl = p->tok.line, fc = p->tok.col;
 
-		rc = get_number(p, "the factor", &factor);
+		rc = dbc_get_number(p, "the factor", &factor);
 		if (rc == 0 && factor == 0)
-			return fail_at(p, fl, fc, "expected a non-zero factor, found 0");
+			return dbc_fail_at(p, fl, fc, "expected a non-zero factor, found 0");
 	} else if (rc == 0) {
-		return expected(p, "the factor");
+		return dbc_expected(p, "the factor");
 	}
 	if (rc == 0)
-		rc = expect_punct(p, ',', "',' between factor and offset");
+		rc = dbc_expect_punct(p, ',', "',' between factor and offset");
 	if (rc == 0)
-		rc = get_number(p, "the offset", &offset);
+		rc = dbc_get_number(p, "the offset", &offset);
 	if (rc == 0)
-		rc = expect_punct(p, ')', "')' after the offset");
+		rc = dbc_expect_punct(p, ')', "')' after the offset");
 	if (rc == 0)
-		rc = expect_punct(p, '[', "'[' before minimum and maximum");
+		rc = dbc_expect_punct(p, '[', "'[' before minimum and maximum");
 	if (rc == 0)
-		rc = get_number(p, "the minimum", &min);
+		rc = dbc_get_number(p, "the minimum", &min);
 	if (rc == 0)
-		rc = expect_punct(p, '|', "'|' between minimum and maximum");
+		rc = dbc_expect_punct(p, '|', "'|' between minimum and maximum");
 	if (rc == 0)
-		rc = get_number(p, "the maximum", &max);
+		rc = dbc_get_number(p, "the maximum", &max);
 	if (rc == 0)
-		rc = expect_punct(p, ']', "']' after the maximum");
+		rc = dbc_expect_punct(p, ']', "']' after the maximum");
 	if (rc == 0)
-		rc = get_string(p, "the unit string", &unit);
+		rc = dbc_get_string(p, "the unit string", &unit);
 	if (rc < 0)
 		return rc;
 	/* receivers: words and commas to the end of the line */
-	while (p->tok.line == p->prev_line && (p->tok.kind == TOK_IDENT || is_punct(p, ','))) {
+	while (p->tok.line == p->prev_line && (p->tok.kind == TOK_IDENT || dbc_is_punct(p, ','))) {
 		if (p->tok.kind == TOK_IDENT) {
 			const char *r = NULL;
 
@@ -327,11 +332,11 @@ static int parse_sg(struct parser *p, int sg_line)
 				free(recv);
 				return -ENOMEM;
 			}
-			rc = get_ident(p, "a receiving node", &r);
+			rc = dbc_get_ident(p, "a receiving node", &r);
 			if (rc == 0 && strcmp(r, "Vector__XXX") != 0)
 				recv[n_recv++] = r;
 		} else {
-			rc = next(p);
+			rc = dbc_next(p);
 		}
 		if (rc < 0) {
 			free(recv);
@@ -341,7 +346,7 @@ static int parse_sg(struct parser *p, int sg_line)
 	/* CANdb++ keeps unassigned signals in its never-sent 0-byte VECTOR__INDEPENDENT_SIG_MSG */
 	if (!m->independent &&
 	    hl_dbc_signal_end_byte((int)start, (int)len, (enum hl_dbc_byte_order)order) > m->size) {
-		rc = irregular(
+		rc = dbc_irregular(
 			p, start_line, start_col, "the signal is never decoded",
 			"signal '%s' (start bit %d, %d bits, %s) does not fit the %d bytes of message '%s'",
 			name, (int)start, (int)len, order ? "Intel" : "Motorola", m->size, m->name);
@@ -396,8 +401,8 @@ static int parse_sg(struct parser *p, int sg_line)
 	}
 	m->n_signals++;
 	if (m->n_signals > HL_DBC_MAX_SIGNALS)
-		return fail_at(p, sg_line, 1, "message '%s' has more than %d signals", m->name,
-			       HL_DBC_MAX_SIGNALS);
+		return dbc_fail_at(p, sg_line, 1, "message '%s' has more than %d signals", m->name,
+				   HL_DBC_MAX_SIGNALS);
 	return 0;
 }
 
@@ -407,22 +412,22 @@ static int parse_bo_tx_bu(struct parser *p)
 	const char **nodes = NULL;
 	int mi, n = 0, cap = 0, rc;
 
-	rc = get_msg_ref(p, &mi);
+	rc = dbc_get_msg_ref(p, &mi);
 	if (rc != 0)
-		return skipped(p, rc);
-	rc = expect_punct(p, ':', "':' after the message ID");
-	while (rc == 0 && !is_punct(p, ';')) {
+		return dbc_skipped(p, rc);
+	rc = dbc_expect_punct(p, ':', "':' after the message ID");
+	while (rc == 0 && !dbc_is_punct(p, ';')) {
 		if (n > 0)
-			rc = expect_punct(p, ',', "',' or ';' after a node");
+			rc = dbc_expect_punct(p, ',', "',' or ';' after a node");
 		if (rc == 0 && hl_dbc_grow(&nodes, &cap, n, sizeof(*nodes)))
 			rc = -ENOMEM;
 		if (rc == 0)
-			rc = get_ident(p, "a transmitting node", &nodes[n]);
+			rc = dbc_get_ident(p, "a transmitting node", &nodes[n]);
 		if (rc == 0)
 			n++;
 	}
 	if (rc == 0)
-		rc = next(p);
+		rc = dbc_next(p);
 	if (rc < 0) {
 		free(nodes);
 		return rc;
@@ -444,49 +449,49 @@ static int parse_cm(struct parser *p)
 
 	if (p->tok.kind == TOK_STRING) {
 		target = &db->comment;
-	} else if (is_word(p, "BU_")) {
+	} else if (dbc_is_word(p, "BU_")) {
 		int line, col, ni;
 
-		rc = next(p);
+		rc = dbc_next(p);
 		line = p->tok.line;
 		col = p->tok.col;
 		if (rc == 0)
-			rc = peek_ident(p, "a node name", &w, &wn);
+			rc = dbc_peek_ident(p, "a node name", &w, &wn);
 		if (rc < 0)
 			return rc;
-		ni = find_node(db, w, wn);
+		ni = dbc_find_node(db, w, wn);
 		if (ni < 0) {
-			rc = irregular(p, line, col, "statement skipped",
-				       "expected a node listed in BU_, found '%.*s'",
-				       (int)(wn > 40 ? 40 : wn), w);
-			return skipped(p, rc < 0 ? rc : SKIP);
+			rc = dbc_irregular(p, line, col, "statement skipped",
+					   "expected a node listed in BU_, found '%.*s'",
+					   (int)(wn > 40 ? 40 : wn), w);
+			return dbc_skipped(p, rc < 0 ? rc : SKIP);
 		}
 		target = &db->nodes[ni].comment;
-	} else if (is_word(p, "BO_")) {
-		rc = next(p);
+	} else if (dbc_is_word(p, "BO_")) {
+		rc = dbc_next(p);
 		if (rc == 0)
-			rc = get_msg_ref(p, &mi);
+			rc = dbc_get_msg_ref(p, &mi);
 		if (rc != 0)
-			return skipped(p, rc);
+			return dbc_skipped(p, rc);
 		target = &db->msgs[mi].comment;
-	} else if (is_word(p, "SG_")) {
-		rc = next(p);
+	} else if (dbc_is_word(p, "SG_")) {
+		rc = dbc_next(p);
 		if (rc == 0)
-			rc = get_sig_ref(p, &mi, &si);
+			rc = dbc_get_sig_ref(p, &mi, &si);
 		if (rc != 0)
-			return skipped(p, rc);
+			return dbc_skipped(p, rc);
 		target = &((struct hl_dbc_signal *)db->msgs[mi].signals)[si].comment;
-	} else if (is_word(p, "EV_")) {
-		rc = next(p);
+	} else if (dbc_is_word(p, "EV_")) {
+		rc = dbc_next(p);
 		if (rc == 0)
-			rc = peek_ident(p, "an environment variable name", &w, &wn);
+			rc = dbc_peek_ident(p, "an environment variable name", &w, &wn);
 	} else {
-		return expected(p, "a comment string or BU_, BO_, SG_, EV_ after CM_");
+		return dbc_expected(p, "a comment string or BU_, BO_, SG_, EV_ after CM_");
 	}
 	if (rc == 0)
-		rc = get_string(p, "the comment string", &text);
+		rc = dbc_get_string(p, "the comment string", &text);
 	if (rc == 0)
-		rc = expect_punct(p, ';', "';' after the comment");
+		rc = dbc_expect_punct(p, ';', "';' after the comment");
 	if (rc == 0 && target)
 		*target = text;
 	return rc;
@@ -497,10 +502,10 @@ static int parse_statement(struct parser *p)
 	int line = p->tok.line, col = p->tok.col, rc;
 
 	if (p->tok.kind != TOK_IDENT)
-		return expected(p, "a section keyword (BO_, SG_, CM_, BA_, VAL_, ...)");
-#define IS(w) is_word(p, w)
+		return dbc_expected(p, "a section keyword (BO_, SG_, CM_, BA_, VAL_, ...)");
+#define IS(w) dbc_is_word(p, w)
 	if (IS("SG_")) {
-		rc = next(p);
+		rc = dbc_next(p);
 		if (rc == 0)
 			rc = parse_sg(p, line);
 		return rc;
@@ -512,7 +517,7 @@ static int parse_statement(struct parser *p)
 
 		snprintf(kw, sizeof(kw), "%.*s", (int)p->tok.n, p->tok.p);
 		p->cur_msg = -1;
-		rc = next(p);
+		rc = dbc_next(p);
 		if (rc < 0)
 			return rc;
 		if (!strcmp(kw, "VERSION"))
@@ -524,7 +529,7 @@ static int parse_statement(struct parser *p)
 		if (!strcmp(kw, "BU_"))
 			return parse_bu(p);
 		if (!strcmp(kw, "VAL_TABLE_"))
-			return parse_val_table(p);
+			return dbc_parse_val_table(p);
 		if (!strcmp(kw, "BO_"))
 			return parse_bo(p);
 		if (!strcmp(kw, "BO_TX_BU_"))
@@ -532,16 +537,16 @@ static int parse_statement(struct parser *p)
 		if (!strcmp(kw, "CM_"))
 			return parse_cm(p);
 		if (!strcmp(kw, "BA_DEF_"))
-			return parse_ba_def(p);
+			return dbc_parse_ba_def(p);
 		if (!strcmp(kw, "BA_DEF_DEF_"))
-			return parse_ba_def_def(p);
+			return dbc_parse_ba_def_def(p);
 		if (!strcmp(kw, "BA_"))
-			return parse_ba(p);
+			return dbc_parse_ba(p);
 		if (!strcmp(kw, "VAL_"))
-			return parse_val(p);
+			return dbc_parse_val(p);
 		if (!strcmp(kw, "SIG_VALTYPE_"))
-			return parse_sig_valtype(p);
-		return parse_sg_mul_val(p, line, col);
+			return dbc_parse_sig_valtype(p);
+		return dbc_parse_sg_mul_val(p, line, col);
 	}
 #undef IS
 	{
@@ -551,9 +556,9 @@ static int parse_statement(struct parser *p)
 		p->cur_msg = -1;
 		rc = warn(p, line, col, "skipped unknown section '%s'", kw);
 		if (rc == 0)
-			rc = next(p);
+			rc = dbc_next(p);
 		if (rc == 0)
-			rc = skip_statement(p, line);
+			rc = dbc_skip_statement(p, line);
 		return rc;
 	}
 }
@@ -579,11 +584,11 @@ int hl_dbc_parse_flags(const char *text, size_t len, unsigned flags, struct hl_d
 	/* a UTF-8 byte order mark, as some Windows tools write it */
 	if (len >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0)
 		p.s += 3;
-	rc = next(&p);
+	rc = dbc_next(&p);
 	while (rc == 0 && p.tok.kind != TOK_EOF)
 		rc = parse_statement(&p);
 	if (rc == 0) {
-		apply_long_names(p.db);
+		dbc_apply_long_names(p.db);
 		rc = hl_dbc_finish(p.db, p.err);
 	}
 	if (rc < 0) {

@@ -5,7 +5,7 @@
 // screenshot, and prints what it saw as one JSON line. Exits 1 on any failure.
 'use strict';
 
-const { chromium } = require('playwright-core');
+const { launch } = require('./launch.cjs');
 
 const [url, screenshot, userDataDir] = process.argv.slice(2);
 if (!url || !screenshot || !userDataDir) {
@@ -64,13 +64,7 @@ async function poll(page, fn, ok, timeoutMs) {
 
 (async () => {
 	// A persistent context is how playwright takes a --user-data-dir: a fresh one per run.
-	const browser = await chromium.launchPersistentContext(userDataDir, {
-		executablePath: '/usr/bin/chromium',
-		headless: true,
-		viewport: { width: 1280, height: 800 },
-		args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-		       '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-	});
+	const browser = await launch(userDataDir, { width: 1280, height: 800 });
 	const result = { url };
 	try {
 		const page = browser.pages()[0] || await browser.newPage();

@@ -5,7 +5,7 @@
 // Exits 1 on any failure.
 'use strict';
 
-const { chromium } = require('playwright-core');
+const { launch } = require('./launch.cjs');
 
 const [url, userDataDir] = process.argv.slice(2);
 if (!url || !userDataDir) {
@@ -23,12 +23,7 @@ function panel() {
 }
 
 (async () => {
-	const browser = await chromium.launchPersistentContext(userDataDir, {
-		executablePath: '/usr/bin/chromium',
-		headless: true,
-		args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-		       '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-	});
+	const browser = await launch(userDataDir);
 	try {
 		const page = browser.pages()[0] || await browser.newPage();
 		const errors = [];

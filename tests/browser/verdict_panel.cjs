@@ -6,7 +6,7 @@
 // panel, and prints what it saw as one JSON line. Exits 1 on any failure.
 'use strict';
 
-const { chromium } = require('playwright-core');
+const { launch } = require('./launch.cjs');
 
 const [url, setId, screenshot, userDataDir] = process.argv.slice(2);
 if (!url || !setId || !screenshot || !userDataDir) {
@@ -53,13 +53,7 @@ function panel(id) {
 }
 
 (async () => {
-	const browser = await chromium.launchPersistentContext(userDataDir, {
-		executablePath: '/usr/bin/chromium',
-		headless: true,
-		viewport: { width: 1280, height: 1000 },
-		args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-		       '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-	});
+	const browser = await launch(userDataDir, { width: 1280, height: 1000 });
 	try {
 		const page = browser.pages()[0] || await browser.newPage();
 		const errors = [];

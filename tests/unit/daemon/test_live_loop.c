@@ -17,17 +17,7 @@
 
 #include "daemon/live_loop.h"
 #include "testutil.h"
-
-static struct hl_scenario *shipped(const char *name)
-{
-	struct hl_scenario *sc = NULL;
-	struct hl_json_error err;
-	char path[4096];
-
-	snprintf(path, sizeof(path), "%s/scenarios/%s", getenv("HL_SOURCE_DIR"), name);
-	assert_int_equal(hl_scenario_read(path, &sc, &err), 0);
-	return sc;
-}
+#include "scenario_util.h"
 
 static void live_loop_none_without_scenario_or_anything_asked(void **state)
 {

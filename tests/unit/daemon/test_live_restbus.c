@@ -15,17 +15,7 @@
 #include <cmocka.h>
 
 #include "daemon/live_restbus.h"
-
-static struct hl_scenario *shipped(const char *name)
-{
-	struct hl_scenario *sc = NULL;
-	struct hl_json_error err;
-	char path[4096];
-
-	snprintf(path, sizeof(path), "%s/scenarios/%s", getenv("HL_SOURCE_DIR"), name);
-	assert_int_equal(hl_scenario_read(path, &sc, &err), 0);
-	return sc;
-}
+#include "scenario_util.h"
 
 static void live_restbus_none_without_interface_or_scenario(void **state)
 {
