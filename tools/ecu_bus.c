@@ -121,8 +121,6 @@ struct ecu_run {
 	struct out_cycle *q; /* ring of pending cycles */
 	int q_size, q_head, q_len;
 	unsigned counter[2];
-	/* each lamp's HdlBeamMode value per enum hl_ecu_mode, -1: none (left 0) */
-	int64_t mode_value[2][4];
 	struct counters c;
 	struct hl_ecu_status last;
 	bool have_last;
@@ -234,9 +232,8 @@ static int compute_cycle(struct ecu_run *r, int64_t t_deadline)
 	for (int l = 0; l < 2; l++) {
 		const unsigned max = hl_assembler_counter_max(r->a, l);
 
-		oc->n[l] = hl_assembler_encode_mode(r->a, l, hl_ecu_output(r->e, l), r->counter[l],
-						    r->mode_value[l][st.mode], oc->frames[l],
-						    HL_ASM_MAX_PARTS);
+		oc->n[l] = hl_assembler_encode(r->a, l, hl_ecu_output(r->e, l), r->counter[l],
+					       oc->frames[l], HL_ASM_MAX_PARTS);
 		if (oc->n[l] < 0)
 			return oc->n[l];
 		if (r->o->bad_crc)
@@ -382,12 +379,6 @@ static int setup_io(struct ecu_run *r)
 		fprintf(stderr, "hdlamp ecu: the timer and signals: %s\n", strerror(-rc));
 		return rc;
 	}
-	/* the beam each cycle shows, by the names of the lamps' HdlBeamMode signals */
-	for (int l = 0; l < 2; l++)
-		for (int m = HL_ECU_OFF; m <= HL_ECU_GLAREFREE; m++)
-			if (hl_assembler_mode_value(r->a, l, hl_ecu_beam_mode_name(m),
-						    &r->mode_value[l][m]) < 0)
-				r->mode_value[l][m] = -1;
 	r->q_size = r->o->late_ms / 20 + 3;
 	r->q = calloc((size_t)r->q_size, sizeof(*r->q));
 	if (!r->q) {

@@ -3,8 +3,7 @@
  * hdlamp ecu on the bus (docs/ecu.md): runs the lighting functions of an hl_ecu every 20 ms on
  * CLOCK_MONOTONIC deadlines, with the inputs received from SocketCAN and decoded by can/inputs.c,
  * and sends the dimming frames of lamps 0 and 1 of an assembler's database (its encoder: the E2E
- * alive counter steps once per cycle, every part carries it, the profile's CRC) with the beam it
- * shows in the lamps' HdlBeamMode signals, if any (hl_ecu_beam_mode_name). Prints JSON
+ * alive counter steps once per cycle, every part carries it, the profile's CRC). Prints JSON
  * lines on stdout: start, mode (at each change of the mode or the fail-safe's reasons) and
  * summary; errors on stderr as "hdlamp ecu: ...".
  */

@@ -425,9 +425,6 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
     t_first_input = min(t for t, mid, _ in frames if mid == inputs.vehicle)
     check_phase(cycles, 0, t_first_input, low, "no inputs (fail-safe)", at_least=20)
     check_phase(cycles, t_first_input + settle, phases["high"], high, "switch high")
-    # the beam each cycle shows, in its HL_Mode_x signal: the fail-safe's low beam, the high
-    check_modes(cycles, 0, t_first_input, "low", "no inputs (fail-safe)")
-    check_modes(cycles, t_first_input + settle, phases["high"], "high", "switch high")
 
     # 2. the glare-free high beam: the sources whose windows meet the car's box are off
     want = {}
@@ -439,7 +436,6 @@ def test_ecu_beams_mask_and_failsafe_timing(hdlamp, tmp_path):
         assert 0 < len(lit_off) < 30
     assert want["left"] != want["right"]  # the lamps see the car from 1.4 m apart
     check_phase(cycles, phases["high"] + settle, phases["glarefree"], want, "glare-free")
-    check_modes(cycles, phases["high"] + settle, phases["glarefree"], "glarefree", "glare-free")
     # the reaction: the first dimming cycle computed after the camera cycle that carried the
     # car masks it (the ECU decides at each deadline on what it has received)
     t_obj = min(t for t, mid, d in frames if mid == inputs.box)
