@@ -1,175 +1,80 @@
 /* SPDX-License-Identifier: MIT */
-/* The closed-loop run's report: see daemon/run_report.h. */
+/* The closed-loop run's report from hdlampd's objects: see daemon/run_report.h. */
 #include "daemon/run_report.h"
-#include "base/json_write.h"
 
-#include <errno.h>
-#include <inttypes.h>
-#include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
-/* A set's record in the report: now, so far and the whole run's strip (verdict_records.h). */
-struct report_set {
-	const struct hl_verdicts *v;
-	int set;
-	FILE *f;
-};
-
-static void write_record(void *ud, const struct hl_record *const *records, int n)
+void hl_run_report_collect(const struct hl_run_report_sources *s, struct hl_loop_report *ret)
 {
-	const struct report_set *rs = ud;
-	const char *req_ids[HL_REG_MAX_REQUIREMENTS], *part_names[HL_FRAME_MAX_LAMPS];
-	struct hl_record_summary sum;
-
-	if (rs->set >= n)
-		return;
-	hl_record_summary(records[rs->set], &sum);
-	hl_verdicts_names(rs->v, rs->set, req_ids, part_names);
-	fputc(',', rs->f);
-	hl_record_json_summary(&sum, req_ids, part_names, rs->f);
-	fputc(',', rs->f);
-	hl_verdict_records_json_runs(rs->v, rs->set, records[rs->set], rs->f);
-}
-
-/* Why the verdict failed, as a mask of these. */
-enum {
-	NO_FRAMES = 1,
-	NOT_JUDGED = 2,
-	SET_FAILED = 4,
-	GLARE_FAILED = 8,
-};
-
-static unsigned failures(const struct hl_run_report_sources *s)
-{
-	struct hl_pipeline_counts pc;
-	struct hl_loop_counts lc;
-	unsigned why = 0;
-
-	hl_pipeline_counts(s->pipe, &pc);
-	hl_loop_latency_counts(s->loop, &lc);
-	if (pc.frames == 0)
-		why |= NO_FRAMES;
-	if (lc.frames_dropped || lc.frames_judged != lc.frames_in)
-		why |= NOT_JUDGED;
-	for (int i = 0; s->verdicts && i < hl_verdicts_n_sets(s->verdicts); i++)
-		if (pc.verdict_failed_frames[i])
-			why |= SET_FAILED;
-	if (!hl_loop_latency_passed(s->loop))
-		why |= GLARE_FAILED;
-	return why;
-}
-
-bool hl_run_report_passed(const struct hl_run_report_sources *s)
-{
-	return failures(s) == 0;
-}
-
-void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
-{
-	static const char *const reasons[] = {
-		"no frame rendered", "frames not judged (the hand-over ring was full)",
-		"a verdict set failed on a frame",
-		("a road user's glare over its limit after the reaction time (or, without a "
-		 "restbus, at all)")
-	};
 	struct hl_pipeline_counts pc;
 	struct hl_input_status st;
 	struct hl_ring_counts rc;
-	const unsigned why = failures(s);
-	bool first = true;
 
 	hl_pipeline_counts(s->pipe, &pc);
 	hl_can_input_status(s->in, &st);
 	hl_ring_counts(s->ring, &rc);
-	fputs("{\"report\":\"hdlamp closed-loop run\",\"version\":1,\"scenario\":", f);
-	hl_json_write_str(f, s->scenario_path);
-	fputs(",\"title\":", f);
-	hl_json_write_str(f, s->sc->title);
-	fprintf(f, ",\"duration_s\":%.6g,\"end\":", s->sc->duration_s);
-	hl_json_write_str(f, s->end);
-	fprintf(f,
-		",\"frames\":{\"rendered\":%" PRIu64 ",\"not_published\":%" PRIu64
-		",\"render_ms_max\":%.3f},\"snapshots\":{\"pushed\":%" PRIu64
-		",\"superseded\":%" PRIu64 ",\"dropped\":%" PRIu64 "},\"cycles\":{",
-		pc.frames, pc.not_published, pc.render_ms_max, rc.pushed, rc.superseded,
-		rc.dropped);
-	for (int l = 0; l < s->n_lamps; l++) {
-		const struct hl_lamp_counters *lc = &st.lamps[l];
-		const uint64_t nr = pc.cycles_not_rendered[l];
-
-		fprintf(f, "%s", l ? "," : "");
-		hl_json_write_str(f, s->lamp_names[l]);
-		fprintf(f,
-			":{\"complete\":%" PRIu64 ",\"rendered\":%" PRIu64
-			",\"not_rendered\":%" PRIu64 ",\"lost\":%" PRIu64 ",\"incomplete\":%" PRIu64
-			",\"crc_errors\":%" PRIu64 ",\"failsafe_frames\":%" PRIu64 "}",
-			lc->cycles, lc->cycles >= nr ? lc->cycles - nr : 0, nr, lc->lost_cycles,
-			lc->incomplete, lc->crc_errors, pc.failsafe_frames[l]);
+	*ret = (struct hl_loop_report){
+		.scenario_path = s->scenario_path,
+		.sc = s->sc,
+		.glare_set = s->glare_set,
+		.end = s->end,
+		.n_lamps = s->n_lamps,
+		.lamp_names = s->lamp_names,
+		.frames = pc.frames,
+		.not_published = pc.not_published,
+		.render_ms_max = pc.render_ms_max,
+		.snapshots_pushed = rc.pushed,
+		.snapshots_superseded = rc.superseded,
+		.snapshots_dropped = rc.dropped,
+		.verdicts = s->verdicts,
+		.records = s->pipe ? hl_pipeline_records(s->pipe) : NULL,
+		.loop = s->loop,
+	};
+	for (int l = 0; l < s->n_lamps && l < HL_FRAME_MAX_LAMPS; l++) {
+		ret->lamp[l] = st.lamps[l];
+		ret->cycles_not_rendered[l] = pc.cycles_not_rendered[l];
+		ret->failsafe_frames[l] = pc.failsafe_frames[l];
 	}
-	fputs("},\"verdict_sets\":[", f);
-	for (int i = 0; s->verdicts && i < hl_verdicts_n_sets(s->verdicts); i++) {
-		fprintf(f, "%s{\"id\":", i ? "," : "");
-		hl_json_write_str(f, hl_verdicts_set(s->verdicts, i)->id);
-		fprintf(f,
-			",\"frames\":%" PRIu64 ",\"passed\":%" PRIu64 ",\"failed\":%" PRIu64
-			",\"held\":%s",
-			pc.verdict_frames[i], pc.verdict_frames[i] - pc.verdict_failed_frames[i],
-			pc.verdict_failed_frames[i],
-			pc.verdict_failed_frames[i] ? "false" : "true");
-		if (s->pipe && hl_pipeline_records(s->pipe)) {
-			struct report_set rs = { s->verdicts, i, f };
-
-			hl_verdict_records_read(hl_pipeline_records(s->pipe), write_record, &rs);
-		}
-		fputc('}', f);
-	}
-	fputs("],\"glare_set\":", f);
-	hl_json_write_str(f, s->glare_set);
-	fputc(',', f);
-	hl_loop_latency_report_json(s->loop, f);
+	memcpy(ret->verdict_frames, pc.verdict_frames, sizeof(ret->verdict_frames));
+	memcpy(ret->verdict_failed_frames, pc.verdict_failed_frames,
+	       sizeof(ret->verdict_failed_frames));
 	if (s->restbus) {
 		struct hl_restbus_counts rb;
 
 		hl_restbus_counts(s->restbus, &rb);
-		fprintf(f,
-			",\"restbus\":{\"camera_cycles\":%" PRIu64 ",\"vehicle_cycles\":%" PRIu64
-			",\"overruns\":%" PRIu64 ",\"tx_full\":%" PRIu64 ",\"tx_errors\":%" PRIu64
-			",\"link_down\":%" PRIu64 "}",
-			rb.camera_cycles, rb.vehicle_cycles, rb.overruns, rb.tx_full, rb.tx_errors,
-			rb.link_down);
+		ret->have_restbus = true;
+		ret->restbus.camera_cycles = rb.camera_cycles;
+		ret->restbus.vehicle_cycles = rb.vehicle_cycles;
+		ret->restbus.overruns = rb.overruns;
+		ret->restbus.tx_full = rb.tx_full;
+		ret->restbus.tx_errors = rb.tx_errors;
+		ret->restbus.link_down = rb.link_down;
 	}
-	fprintf(f, ",\"verdict\":%s,\"failed_because\":[", why ? "false" : "true");
-	for (unsigned b = 0; b < 4; b++) {
-		if (!(why & (1u << b)))
-			continue;
-		fprintf(f, "%s\"%s\"", first ? "" : ",", reasons[b]);
-		first = false;
-	}
-	fputs("]}\n", f);
+}
+
+bool hl_run_report_passed(const struct hl_run_report_sources *s)
+{
+	struct hl_loop_report r;
+
+	hl_run_report_collect(s, &r);
+	return hl_loop_report_passed(&r);
+}
+
+void hl_run_report_json(const struct hl_run_report_sources *s, FILE *f)
+{
+	struct hl_loop_report r;
+
+	hl_run_report_collect(s, &r);
+	hl_loop_report_json(&r, f);
 }
 
 int hl_run_report_write(const struct hl_run_report_sources *s, const char *path)
 {
-	char tmp[4200];
-	FILE *f;
-	int rc = 0;
+	struct hl_loop_report r;
 
-	if (snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= (int)sizeof(tmp))
-		return -ENAMETOOLONG;
-	f = fopen(tmp, "we");
-	if (!f)
-		return -errno;
-	hl_run_report_json(s, f);
-	if (fflush(f) != 0 || ferror(f))
-		rc = -EIO;
-	if (fclose(f) != 0 && rc == 0)
-		rc = -errno;
-	if (rc == 0 && rename(tmp, path) < 0)
-		rc = -errno;
-	if (rc < 0)
-		unlink(tmp);
-	return rc;
+	hl_run_report_collect(s, &r);
+	return hl_loop_report_write(&r, path);
 }
 
 int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,

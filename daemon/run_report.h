@@ -1,11 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The closed-loop run's report (docs/loop.md, "--exit-at-end and --report"): one JSON object written at exit
- * with the frames, the lamps' cycles (rendered, not rendered, dropped), each configured
- * verdict set's frames passed and failed, the glare per road user, the loop latencies per
- * event, and the verdict: true only when every configured verdict held — every verdict set on
- * every frame it was evaluated on, and the scenario's glare rule (daemon/loop/loop_latency.h) —
- * with at least one frame rendered and every frame judged.
+ * The closed-loop run's report (docs/loop.md, "--exit-at-end and --report") of hdlampd: the
+ * counters of its threads collected into the report's data (daemon/loop/loop_report.h, the
+ * format and the verdict's rule), written at exit.
  *
  * Thread-safety: main thread, after the threads that feed the counters have stopped.
  */
@@ -17,6 +14,7 @@
 
 #include "daemon/core/can_input.h"
 #include "daemon/loop/loop_latency.h"
+#include "daemon/loop/loop_report.h"
 #include "daemon/pipeline.h"
 #include "daemon/loop/restbus.h"
 #include "daemon/core/ring.h"
@@ -38,6 +36,8 @@ struct hl_run_report_sources {
 	const char *end; /* how the run ended: "scenario_end", "replay_end", "signal" */
 };
 
+/* The report's data from the sources. */
+void hl_run_report_collect(const struct hl_run_report_sources *s, struct hl_loop_report *ret);
 /* The verdict alone (what the report's "verdict" says). */
 bool hl_run_report_passed(const struct hl_run_report_sources *s);
 /* The report into f. */
