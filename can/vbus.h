@@ -120,7 +120,7 @@ void hl_vbus_counts(struct hl_vbus *b, struct hl_vbus_counts *ret);
  * the time including intermission. -1 for a frame no bus can carry.
  */
 int64_t hl_vbus_wire(uint32_t can_id, const uint8_t *data, uint8_t len, bool fd, bool brs,
-		     uint32_t bitrate, uint32_t data_bitrate, unsigned *ret_bits, unsigned *ret_stuff,
-		     int64_t *ret_ns_ifs);
+		     uint32_t bitrate, uint32_t data_bitrate, unsigned *ret_bits,
+		     unsigned *ret_stuff, int64_t *ret_ns_ifs);
 
 #endif
