@@ -63,7 +63,7 @@ typedef void (*hl_vbus_rx_fn)(void *ctx, const struct hl_vbus_frame *f);
 struct hl_vbus_node_counts {
 	char name[32];
 	uint64_t sent; /* frames that completed on the bus */
-	uint64_t received;
+	uint64_t received; /* frames of the other nodes carried while attached */
 	uint64_t arbitration_lost; /* times a pending frame lost to a lower ID */
 	uint64_t queue_full; /* sends refused: HL_VBUS_QUEUE frames pending */
 	int64_t max_wait_ns; /* longest time from ready to start of frame */
@@ -73,10 +73,10 @@ struct hl_vbus_counts {
 	uint64_t frames;
 	uint64_t bits; /* on the wire, stuff bits and intermission included */
 	uint64_t stuff_bits;
-	int64_t busy_ns; /* time the bus carried frames */
+	int64_t busy_ns; /* time the bus carried frames, intermission included */
 	int n_nodes;
 	struct hl_vbus_node_counts node[HL_VBUS_MAX_NODES];
-	uint64_t trace_errors; /* trace writes that failed (the first is logged) */
+	uint64_t trace_errors; /* trace writes that failed (the caller logs from the count) */
 };
 
 struct hl_vbus;
@@ -107,7 +107,7 @@ int64_t hl_vbus_now(const struct hl_vbus *b);
  * Writes every frame from now on to path: candump -L lines (".log", time = t_ns as seconds
  * since epoch_ns + t_ns) or Vector BLF (".blf", objects CAN_MESSAGE2 / CAN_FD_MESSAGE_64 in
  * uncompressed log containers, on channel 1). At most one trace of each kind. 0, -EINVAL (an
- * unknown extension), -EEXIST, -errno (named in the log).
+ * unknown extension), -EEXIST, -errno from opening the file (the caller names it in its log).
  */
 int hl_vbus_trace(struct hl_vbus *b, const char *path, int64_t epoch_ns);
 
@@ -120,7 +120,7 @@ void hl_vbus_counts(struct hl_vbus *b, struct hl_vbus_counts *ret);
  * the time including intermission. -1 for a frame no bus can carry.
  */
 int64_t hl_vbus_wire(uint32_t can_id, const uint8_t *data, uint8_t len, bool fd, bool brs,
-		     uint32_t bitrate, uint32_t data_bitrate, unsigned *ret_bits, unsigned *ret_stuff,
-		     int64_t *ret_ns_ifs);
+		     uint32_t bitrate, uint32_t data_bitrate, unsigned *ret_bits,
+		     unsigned *ret_stuff, int64_t *ret_ns_ifs);
 
 #endif
