@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include "can/socket.h"
+#include "can/vbus_port.h"
 
 #include <errno.h>
 #include <net/if.h>
@@ -28,6 +29,7 @@ struct hl_can_socket {
 	uint32_t drops_at_open; /* SO_RXQ_OVFL is per socket: keep the total across reopens */
 	uint64_t drops_before;
 	struct hl_can_socket_stats st;
+	struct hl_vbus_port *port; /* on a virtual bus registered under ifname (can/vbus_port.h) */
 };
 
 int hl_can_socket_new(const char *ifname, const uint32_t *ids, int n_ids,
@@ -62,7 +64,7 @@ int hl_can_socket_new(const char *ifname, const uint32_t *ids, int n_ids,
 
 static void close_socket(struct hl_can_socket *s)
 {
-	if (s->fd < 0)
+	if (s->fd < 0 || s->port) /* a virtual bus's port never goes down */
 		return;
 	close(s->fd);
 	s->fd = -1;
@@ -76,10 +78,68 @@ void hl_can_socket_free(struct hl_can_socket *s)
 {
 	if (!s)
 		return;
-	if (s->fd >= 0)
+	if (s->fd >= 0 && !s->port)
 		close(s->fd);
+	hl_vbus_port_close(s->port);
 	free(s->filters);
 	free(s);
+}
+
+static int64_t timespec_ns(const struct timespec *ts)
+{
+	return (int64_t)ts->tv_sec * 1000000000 + ts->tv_nsec;
+}
+
+/*
+ * The interface is a virtual bus of this process: a port on it takes the socket's place (its
+ * eventfd the fd to poll); it is opened once and never goes down.
+ */
+static int open_virtual(struct hl_can_socket *s)
+{
+	uint32_t ids[MAX_IDS];
+	int rc;
+
+	if (s->port)
+		return 0;
+	for (int i = 0; i < s->n_filters; i++) {
+		const uint32_t id = s->filters[i].can_id;
+
+		ids[i] = id & CAN_EFF_FLAG ? (id & CAN_EFF_MASK) | HL_DBC_EFF_FLAG : id;
+	}
+	rc = hl_vbus_port_open(hl_vbus_lookup(s->ifname), "socket", ids, s->n_filters, &s->port);
+	if (rc < 0)
+		return rc;
+	s->fd = hl_vbus_port_fd(s->port);
+	s->st.open = true;
+	s->st.fd_enabled = true;
+	s->st.bus = HL_CAN_BUS_ACTIVE;
+	s->st.opens++;
+	return 0;
+}
+
+/* A frame of the virtual bus as a socket gives it: CLOCK_REALTIME receive time. */
+static int read_virtual(struct hl_can_socket *s, struct hl_can_rx *ret)
+{
+	struct hl_vbus_frame f;
+	struct timespec real, mono;
+
+	if (hl_vbus_port_read(s->port, &f) == 0)
+		return 0;
+	clock_gettime(CLOCK_REALTIME, &real);
+	clock_gettime(CLOCK_MONOTONIC, &mono);
+	memset(ret, 0, sizeof(*ret));
+	ret->frame.can_id = f.can_id & HL_DBC_EFF_FLAG ? (f.can_id & ~HL_DBC_EFF_FLAG) | CAN_EFF_FLAG :
+						       f.can_id;
+	ret->frame.len = f.len;
+	ret->frame.flags = f.brs ? CANFD_BRS : 0;
+	memcpy(ret->frame.data, f.data, f.len);
+	ret->fd = f.fd;
+	/* the bus's time is CLOCK_MONOTONIC; the reader expects the kernel's CLOCK_REALTIME */
+	ret->t_rx_ns = f.t_ns + (timespec_ns(&real) - timespec_ns(&mono));
+	s->st.frames++;
+	s->st.fd_frames += f.fd;
+	s->st.kernel_drops = hl_vbus_port_dropped(s->port);
+	return 1;
 }
 
 int hl_can_socket_open(struct hl_can_socket *s)
@@ -94,6 +154,8 @@ int hl_can_socket_open(struct hl_can_socket *s)
 	struct ifreq ifr;
 	int fd, rc;
 
+	if (s->port || hl_vbus_lookup(s->ifname))
+		return open_virtual(s);
 	if (s->fd >= 0)
 		close_socket(s);
 	fd = socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
@@ -161,11 +223,6 @@ int hl_can_socket_retry_ms(struct hl_can_socket *s)
 	return ms;
 }
 
-static int64_t timespec_ns(const struct timespec *ts)
-{
-	return (int64_t)ts->tv_sec * 1000000000 + ts->tv_nsec;
-}
-
 static void track_errors(struct hl_can_socket *s, const struct canfd_frame *f)
 {
 	s->st.error_frames++;
@@ -209,6 +266,11 @@ int hl_can_socket_send(struct hl_can_socket *s, uint32_t can_id, const uint8_t *
 		return -EINVAL;
 	if (s->fd < 0)
 		return -ENETDOWN;
+	if (s->port)
+		return hl_vbus_port_send(s->port,
+					 can_id & CAN_EFF_FLAG ? (can_id & CAN_EFF_MASK) | HL_DBC_EFF_FLAG :
+								 can_id & CAN_SFF_MASK,
+					 data, len, fd);
 	if (fd && !s->st.fd_enabled)
 		return -EPROTONOSUPPORT;
 	memcpy(f.data, data, len);
@@ -240,6 +302,8 @@ int hl_can_socket_read(struct hl_can_socket *s, struct hl_can_rx *ret)
 
 	if (s->fd < 0)
 		return -ENETDOWN;
+	if (s->port)
+		return read_virtual(s, ret);
 	n = recvmsg(s->fd, &msg, MSG_DONTWAIT);
 	if (n < 0) {
 		if (errno == EAGAIN || errno == EINTR)

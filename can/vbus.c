@@ -43,6 +43,8 @@ struct hl_vbus {
 	struct node node[HL_VBUS_MAX_NODES];
 	struct hl_vbus_counts counts;
 	struct hl_vbus_trace *log, *blf; /* the driving thread's */
+	void (*notify)(void *ctx); /* told of every accepted send (hl_vbus_set_notify) */
+	void *notify_ctx;
 };
 
 int hl_vbus_new(const struct hl_vbus_config *cfg, struct hl_vbus **ret)
@@ -120,6 +122,8 @@ int hl_vbus_send(struct hl_vbus *b, int node, int64_t t_ns, uint32_t can_id, con
 		 uint8_t len, bool fd, bool brs)
 {
 	struct pending p = { .f = { .can_id = can_id, .len = len, .fd = fd, .brs = brs } };
+	void (*notify)(void *ctx);
+	void *notify_ctx;
 	struct node *n;
 	int64_t ns;
 
@@ -146,8 +150,20 @@ int hl_vbus_send(struct hl_vbus *b, int node, int64_t t_ns, uint32_t can_id, con
 	p.ready_ns = t_ns > b->now_ns ? t_ns : b->now_ns;
 	n->q[(n->head + n->count) % HL_VBUS_QUEUE] = p;
 	n->count++;
+	notify = b->notify;
+	notify_ctx = b->notify_ctx;
 	pthread_mutex_unlock(&b->lock);
+	if (notify)
+		notify(notify_ctx);
 	return 0;
+}
+
+void hl_vbus_set_notify(struct hl_vbus *b, void (*fn)(void *ctx), void *ctx)
+{
+	pthread_mutex_lock(&b->lock);
+	b->notify = fn;
+	b->notify_ctx = ctx;
+	pthread_mutex_unlock(&b->lock);
 }
 
 /*
@@ -232,6 +248,8 @@ void hl_vbus_run_until(struct hl_vbus *b, int64_t t_ns)
 {
 	for (;;) {
 		struct pending p;
+		hl_vbus_rx_fn rx[HL_VBUS_MAX_NODES];
+		void *ctx[HL_VBUS_MAX_NODES];
 		int64_t start;
 		int win;
 
@@ -244,13 +262,27 @@ void hl_vbus_run_until(struct hl_vbus *b, int64_t t_ns)
 			return;
 		}
 		take(b, win, start, &p);
+		for (int i = 0; i < HL_VBUS_MAX_NODES; i++) { /* as attached now (hl_vbus_detach) */
+			rx[i] = i != win ? b->node[i].rx : NULL;
+			ctx[i] = b->node[i].ctx;
+		}
 		pthread_mutex_unlock(&b->lock);
 		for (int i = 0; i < HL_VBUS_MAX_NODES; i++)
-			if (i != win && b->node[i].rx)
-				b->node[i].rx(b->node[i].ctx, &p.f);
+			if (rx[i])
+				rx[i](ctx[i], &p.f);
 		trace(b, b->log, &p);
 		trace(b, b->blf, &p);
 	}
+}
+
+void hl_vbus_detach(struct hl_vbus *b, int node)
+{
+	pthread_mutex_lock(&b->lock);
+	if (node >= 0 && node < b->counts.n_nodes) {
+		b->node[node].rx = NULL;
+		b->node[node].ctx = NULL;
+	}
+	pthread_mutex_unlock(&b->lock);
 }
 
 int64_t hl_vbus_now(const struct hl_vbus *b)

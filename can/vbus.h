@@ -90,6 +90,13 @@ void hl_vbus_free(struct hl_vbus *b);
 int hl_vbus_attach(struct hl_vbus *b, const char *name, hl_vbus_rx_fn rx, void *ctx);
 
 /*
+ * The node receives nothing more (its slot stays taken; what it queued is still sent). A
+ * delivery that has begun on the driving thread may still reach it: free its context only when
+ * the bus is not driven, or from the driving thread.
+ */
+void hl_vbus_detach(struct hl_vbus *b, int node);
+
+/*
  * Node node queues a frame ready at t_ns (it may not start before; a t_ns earlier than the
  * bus's current time means "now"). 0, -EINVAL (a bad node, length or an FD length that is no
  * DLC), -ENOBUFS (the node's queue is full, counted).
@@ -112,6 +119,12 @@ int64_t hl_vbus_now(const struct hl_vbus *b);
 int hl_vbus_trace(struct hl_vbus *b, const char *path, int64_t epoch_ns);
 
 void hl_vbus_counts(struct hl_vbus *b, struct hl_vbus_counts *ret);
+
+/*
+ * fn(ctx) is called after every accepted hl_vbus_send(), from the sending thread, outside the
+ * bus's lock (the real-time driver's wake-up, can/vbus_rt.h); NULL: none.
+ */
+void hl_vbus_set_notify(struct hl_vbus *b, void (*fn)(void *ctx), void *ctx);
 
 /*
  * The wire of one frame at the given rates: *ret_bits every bit from SOF to the end of

@@ -54,6 +54,11 @@ static void usage(FILE *f)
 		"                     per datagram (needs --scenario)\n"
 		"  --restbus IFACE    = restbus.interface: send the ECU's inputs (vehicle state,\n"
 		"                     camera objects) from the scenario on IFACE (needs --scenario)\n"
+		"  --ecu MODEL        = ecu.model: 'reference' or an FMI 2.0 FMU: the ECU in process on\n"
+		"                     the virtual bus vbus0, which is then can.interface and\n"
+		"                     restbus.interface (needs --scenario; no CAN interface at all)\n"
+		"  --ecu-fault F      = ecu.faults (comma separated): ignore-objects, no-failsafe,\n"
+		"                     late=MS, stuck-counter, bad-crc\n"
 		"  --exit-at-end      = loop.exit_at_end: stop at the scenario's end (needs --scenario)\n"
 		"  --report FILE      = loop.report: the run's JSON report at exit; the exit code is\n"
 		"                     then 0 only when every verdict held, 3 when one failed\n"
@@ -104,6 +109,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "scenario", required_argument, NULL, 'A' },
 		{ "pose", required_argument, NULL, 'O' },
 		{ "restbus", required_argument, NULL, 'B' },
+		{ "ecu", required_argument, NULL, 'U' },
+		{ "ecu-fault", required_argument, NULL, 'F' },
 		{ "exit-at-end", no_argument, NULL, 'E' },
 		{ "report", required_argument, NULL, 'R' },
 		{ "loop-events", required_argument, NULL, 'V' },
@@ -163,6 +170,12 @@ static int parse_options(int argc, char **argv, struct options *o)
 			break;
 		case 'B':
 			rc = add_override(o, "restbus.interface", optarg, "--restbus", optarg);
+			break;
+		case 'U':
+			rc = add_override(o, "ecu.model", optarg, "--ecu", optarg);
+			break;
+		case 'F':
+			rc = add_override(o, "ecu.faults", optarg, "--ecu-fault", optarg);
 			break;
 		case 'E':
 			rc = add_override(o, "loop.exit_at_end", "true", "--exit-at-end", NULL);

@@ -24,6 +24,7 @@
 #include "daemon/core/decode_report.h"
 #include "daemon/core/ring.h"
 #include "daemon/core/verdicts.h"
+#include "daemon/live_ecu.h"
 #include "daemon/live_log.h"
 #include "daemon/live_loop.h"
 #include "daemon/live_render.h"
@@ -63,6 +64,7 @@ struct live {
 	struct hl_loop_latency *loop; /* loop_judge's */
 	struct hl_restbus *restbus; /* restbus.interface: the ECU's inputs from the scenario */
 	struct hl_live_render *render; /* the renderer and the outputs */
+	struct hl_live_ecu *ecu; /* ecu.model: the ECU in process on the virtual bus */
 	bool config_error; /* setup failed on the configuration: exit 2 */
 };
 
@@ -222,6 +224,21 @@ static int setup(struct live *lv)
 {
 	int rc, n_src;
 
+	/* ecu.model: the virtual bus first, so that the CAN input and the restbus open it */
+	rc = hl_live_ecu_new(&lv->cfg, &lv->ecu, &lv->config_error);
+	if (rc < 0)
+		return rc;
+	if (lv->ecu) {
+		if (!lv->args->render) {
+			hl_live_log("ecu.model lights the renderer's lamps: not with --no-render");
+			lv->config_error = true;
+			return -EINVAL;
+		}
+		snprintf(lv->cfg.interface, sizeof(lv->cfg.interface), "%s", HL_CONFIG_VBUS);
+		snprintf(lv->cfg.restbus_interface, sizeof(lv->cfg.restbus_interface), "%s",
+			 HL_CONFIG_VBUS);
+		lv->input_name = lv->cfg.interface;
+	}
 	rc = setup_input(lv, &n_src);
 	if (rc == 0 && lv->args->render)
 		rc = load_lids(lv);
@@ -276,11 +293,15 @@ static int setup(struct live *lv)
 	rc = hl_can_input_start(lv->in);
 	if (rc < 0)
 		hl_live_log("cannot start the CAN thread: %s", strerror(-rc));
+	if (rc == 0)
+		rc = hl_live_ecu_start(lv->ecu, &lv->cfg, lv->a, lv->lids, lv->lamp_names,
+				       &lv->config_error);
 	return rc;
 }
 
 static void teardown(struct live *lv)
 {
+	hl_live_ecu_stop(lv->ecu); /* the bus's thread: nothing is delivered any more */
 	if (lv->in)
 		hl_can_input_stop(lv->in);
 	hl_live_render_free(lv->render); /* the outputs and the render thread that read the rest */
@@ -295,6 +316,7 @@ static void teardown(struct live *lv)
 		hl_lid_free(lv->lids[l]);
 	hl_assembler_free(lv->a);
 	hl_dbc_free(lv->db);
+	hl_live_ecu_free(lv->ecu); /* after the CAN input's and the restbus's ports */
 }
 
 /* STATUS= for systemctl status: per lamp its cycles and state, the frames. */
@@ -435,6 +457,11 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 			end = "replay_end";
 		if (lv.loop && !lv.restbus) /* no restbus thread: this one judges the frames */
 			hl_loop_latency_drain(lv.loop, INFINITY);
+		if (!done && hl_live_ecu_error(lv.ecu)) {
+			end = "ecu_error"; /* logged by the ECU's thread */
+			code = 1;
+			break;
+		}
 		if (!done && lv.render && scenario_over(&lv)) {
 			end = "scenario_end";
 			done = true;
@@ -471,6 +498,7 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 		hl_notify_stopping();
 	if (rc == 0 && lv.render) {
 		/* quiesce, then report: the counters no longer move */
+		hl_live_ecu_stop(lv.ecu);
 		hl_can_input_stop(lv.in);
 		hl_live_render_stop(lv.render);
 		if (lv.loop)

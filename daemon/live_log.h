@@ -10,5 +10,7 @@
 #define HL_DAEMON_LIVE_LOG_H
 
 void hl_live_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* The program name the lines start with ("hdlampd" unless set; set it before any thread runs). */
+void hl_live_log_prefix(const char *name);
 
 #endif

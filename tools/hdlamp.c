@@ -20,6 +20,7 @@ static const struct command commands[] = {
 	{ "render", hl_cmd_render, "render a still of a scene lit by the lamps (PNG or EXR)" },
 	{ "glare", hl_cmd_glare, "the light at road users' eyes in a scenario and its limit" },
 	{ "ecu", hl_cmd_ecu, "the reference virtual headlamp ECU on a CAN interface" },
+	{ "sil", hl_cmd_sil, "the loop in virtual time: restbus, virtual bus, ECU, verdicts" },
 };
 
 static void usage(FILE *f)

@@ -150,6 +150,14 @@ static const struct key keys[] = {
 	  "SocketCAN interface the restbus sends the ECU's inputs on (needs scene.scenario); "
 	  "empty = off",
 	  NULL },
+	{ "ecu", "model", STRING, F(ecu_model), 0, 0,
+	  "reference | FILE.fmu: the ECU in process on the virtual bus " HL_CONFIG_VBUS
+	  " (can.interface and restbus.interface); empty = an ECU outside",
+	  NULL },
+	{ "ecu", "faults", STRING, F(ecu_faults), 0, 0,
+	  "the in-process ECU's faults, comma separated: ignore-objects, no-failsafe, late=MS, "
+	  "stuck-counter, bad-crc",
+	  NULL },
 	{ "restbus", "dbc", PATH, F(restbus_dbc), 0, 0,
 	  "the ECU's input database (HdlInput attributes); empty = the shipped hd84_inputs.dbc",
 	  NULL },
@@ -500,7 +508,21 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 {
 	const char *why = NULL;
 
-	if (!cfg->interface[0] == !cfg->replay[0])
+	const bool vbus_iface = !cfg->interface[0] || strcmp(cfg->interface, HL_CONFIG_VBUS) == 0;
+	const bool vbus_restbus = !cfg->restbus_interface[0] ||
+				  strcmp(cfg->restbus_interface, HL_CONFIG_VBUS) == 0;
+
+	if (cfg->ecu_model[0] && cfg->replay[0])
+		why = "ecu.model runs the loop on the virtual bus " HL_CONFIG_VBUS
+		      ": not with can.replay";
+	else if (cfg->ecu_model[0] && (!vbus_iface || !vbus_restbus))
+		why = "ecu.model runs the loop on the virtual bus " HL_CONFIG_VBUS
+		      ": can.interface and restbus.interface must be " HL_CONFIG_VBUS " or empty";
+	else if (cfg->ecu_model[0] && !cfg->scenario[0])
+		why = "ecu.model needs scene.scenario: the restbus sends the ECU its state";
+	else if (!cfg->ecu_model[0] && cfg->ecu_faults[0])
+		why = "ecu.faults needs ecu.model";
+	else if (!cfg->ecu_model[0] && !cfg->interface[0] == !cfg->replay[0])
 		why = "exactly one of can.interface and can.replay is needed";
 	else if ((cfg->replay_fast || cfg->replay_loop) && !cfg->replay[0])
 		why = "can.replay_fast and can.replay_loop need can.replay";

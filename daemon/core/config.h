@@ -35,6 +35,9 @@ enum hl_failsafe {
 	HL_FAILSAFE_PRESET, /* a preset's values (failsafe_preset) */
 };
 
+/* The virtual bus an in-process ECU (ecu.model) runs on: can.interface and restbus.interface. */
+#define HL_CONFIG_VBUS "vbus0"
+
 struct hl_config {
 	/* [can] */
 	char interface[HL_CONFIG_NAME]; /* SocketCAN interface, or "" */
@@ -96,6 +99,9 @@ struct hl_config {
 	char pose_listen[HL_CONFIG_NAME]; /* udp:HOST:PORT of the pose input, or "" */
 	/* [restbus] */
 	char restbus_interface[HL_CONFIG_NAME]; /* SocketCAN interface of the restbus, or "" */
+	/* [ecu] the ECU in process on the virtual bus HL_CONFIG_VBUS: "reference", an FMU, "" */
+	char ecu_model[HL_CONFIG_PATH];
+	char ecu_faults[HL_CONFIG_NAME]; /* comma separated, hdlamp ecu's --fault names */
 	char restbus_dbc[HL_CONFIG_PATH]; /* the input database; "": the shipped hd84_inputs.dbc */
 	double restbus_camera_pos_m[3]; /* the camera, ego body frame */
 	double restbus_fov_deg[2]; /* horizontal, vertical field of view (full angles) */

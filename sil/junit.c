@@ -1,0 +1,126 @@
+/* SPDX-License-Identifier: MIT */
+/* A run's verdicts as JUnit XML: see sil/junit.h. */
+#include "sil/junit.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+/* Text for an XML attribute or element. */
+static void xml_text(FILE *f, const char *s)
+{
+	for (; *s; s++) {
+		switch (*s) {
+		case '&': fputs("&amp;", f); break;
+		case '<': fputs("&lt;", f); break;
+		case '>': fputs("&gt;", f); break;
+		case '"': fputs("&quot;", f); break;
+		default:
+			if ((unsigned char)*s >= 0x20 || *s == '\n' || *s == '\t')
+				fputc(*s, f);
+		}
+	}
+}
+
+static void testcase(FILE *f, const char *classname, const char *name, const char *failure)
+{
+	fputs("    <testcase classname=\"", f);
+	xml_text(f, classname);
+	fputs("\" name=\"", f);
+	xml_text(f, name);
+	if (!failure) {
+		fputs("\"/>\n", f);
+		return;
+	}
+	fputs("\">\n      <failure message=\"", f);
+	xml_text(f, failure);
+	fputs("\"/>\n    </testcase>\n", f);
+}
+
+static void write_cases(const struct hl_loop_report *r, const char *ecu_error, FILE *f,
+			int *ret_tests, int *ret_failures, bool count_only)
+{
+	struct hl_loop_counts lc;
+	char cls[512], name[256], why[512];
+	int tests = 0, failures = 0;
+
+	hl_loop_latency_counts(r->loop, &lc);
+	snprintf(cls, sizeof(cls), "%s", r->scenario_path);
+	if (ecu_error) {
+		tests++;
+		failures++;
+		if (!count_only)
+			testcase(f, cls, "ecu", ecu_error);
+	}
+	tests++;
+	why[0] = '\0';
+	if (r->frames == 0)
+		snprintf(why, sizeof(why), "no frame judged");
+	else if (lc.frames_dropped || lc.frames_judged != lc.frames_in)
+		snprintf(why, sizeof(why), "%" PRIu64 " of %" PRIu64 " frames not judged",
+			 lc.frames_in - lc.frames_judged, lc.frames_in);
+	failures += why[0] != '\0';
+	if (!count_only)
+		testcase(f, cls, "frames", why[0] ? why : NULL);
+	for (int i = 0; r->verdicts && i < hl_verdicts_n_sets(r->verdicts); i++) {
+		tests++;
+		snprintf(name, sizeof(name), "verdict set %s", hl_verdicts_set(r->verdicts, i)->id);
+		why[0] = '\0';
+		if (r->verdict_failed_frames[i])
+			snprintf(why, sizeof(why), "failed on %" PRIu64 " of %" PRIu64 " frames",
+				 r->verdict_failed_frames[i], r->verdict_frames[i]);
+		failures += why[0] != '\0';
+		if (!count_only)
+			testcase(f, cls, name, why[0] ? why : NULL);
+	}
+	for (int a = 0; a < lc.n_actors && a < r->sc->n_actors; a++) {
+		const struct hl_loop_actor *ac = &lc.actor[a];
+
+		tests++;
+		snprintf(name, sizeof(name), "glare at %s", r->sc->actor[a].id);
+		why[0] = '\0';
+		if (ac->frames_over_late)
+			snprintf(why, sizeof(why),
+				 "over its limit in view after the reaction time on %" PRIu64
+				 " frames (%.3f s), highest %.4g lx",
+				 ac->frames_over_late, ac->glare_late_s, ac->max_lux);
+		failures += why[0] != '\0';
+		if (!count_only)
+			testcase(f, cls, name, why[0] ? why : NULL);
+	}
+	*ret_tests = tests;
+	*ret_failures = failures;
+}
+
+int hl_sil_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path)
+{
+	char tmp[4200];
+	int tests, failures, rc = 0;
+	FILE *f;
+
+	if (snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= (int)sizeof(tmp))
+		return -ENAMETOOLONG;
+	f = fopen(tmp, "we");
+	if (!f)
+		return -errno;
+	write_cases(r, ecu_error, NULL, &tests, &failures, true);
+	fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"", f);
+	xml_text(f, r->scenario_path);
+	fprintf(f, "\" tests=\"%d\" failures=\"%d\" errors=\"0\" skipped=\"0\">\n", tests, failures);
+	fputs("    <properties>\n      <property name=\"ecu\" value=\"", f);
+	xml_text(f, r->ecu ? r->ecu : "");
+	fputs("\"/>\n    </properties>\n", f);
+	write_cases(r, ecu_error, f, &tests, &failures, false);
+	fputs("  </testsuite>\n</testsuites>\n", f);
+	if (fflush(f) != 0 || ferror(f))
+		rc = -EIO;
+	if (fclose(f) != 0 && rc == 0)
+		rc = -errno;
+	if (rc == 0 && rename(tmp, path) < 0)
+		rc = -errno;
+	if (rc < 0)
+		unlink(tmp);
+	return rc;
+}
