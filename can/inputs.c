@@ -462,6 +462,21 @@ int hl_inputs_map_range(const struct hl_inputs_map *map, const char *field, doub
 	return 0;
 }
 
+const struct hl_dbc_signal *hl_inputs_map_signal(const struct hl_inputs_map *map, const char *field,
+						 int slot)
+{
+	int f = field_of(vf_name, VF_N, field);
+
+	if (f >= 0)
+		return map->vsig[f];
+	f = field_of(of_name, OF_N, field);
+	if (f == OF_COUNT)
+		slot = 0;
+	if (f < 0 || slot < 0 || slot >= map->slots)
+		return NULL;
+	return object_signal(map, f, slot);
+}
+
 /* --- encode --- */
 
 static void frame_init(const struct hl_inputs_message *im, struct hl_inputs_frame *f)

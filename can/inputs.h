@@ -149,6 +149,14 @@ int hl_inputs_map_range(const struct hl_inputs_map *map, const char *field, doub
 			double *ret_max);
 
 /*
+ * The signal carrying field (an HdlInputSignal name: a vehicle field, or an object field in
+ * slot 0..slots-1; the slot is ignored for vehicle fields and for "object_count", which is
+ * taken from slot 0), owned by the database; NULL for an unknown field or slot.
+ */
+const struct hl_dbc_signal *hl_inputs_map_signal(const struct hl_inputs_map *map, const char *field,
+						 int slot);
+
+/*
  * The vehicle state as one frame with the E2E counter (0..counter max) and CRC. 0, or -ERANGE
  * when a value does not fit its signal (the frame is then unusable), -EINVAL for a counter
  * above the maximum.

@@ -28,6 +28,14 @@
  * count rose. Both sides are this file, so the in-process reference ECU and its FMU compute the
  * same bits.
  *
+ * Exact by construction: the host side writes the decoded struct back in the database's units
+ * (the inverse of can/inputs_decoder.c's km/h and deg conversions, receive times as t_rx_ns / 1e9),
+ * the model side converts like the decoder (receive times rounded back to whole ns). struct ->
+ * values -> struct may differ from the struct in the last bit of a converted value, so every ECU
+ * in the loop, in process or in an FMU, always takes this roundtrip and sees the same bits. The
+ * model side rounds and clamps what must be whole (switch 0..3, ADB 0/1, count 0..slots, class
+ * 0..3, id 0..255): an FMU's importer may set any Real.
+ *
  * Thread-safety: an hl_ecu_io is read-only after hl_ecu_io_new(); the model state belongs to
  * its caller.
  */

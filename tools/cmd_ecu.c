@@ -20,6 +20,7 @@
 #include "base/share_dir.h"
 #include "tools/commands.h"
 #include "tools/ecu_bus.h"
+#include "tools/ecu_fmu_export.h"
 #include "tools/json_out.h"
 #include "tools/preset_arg.h"
 
@@ -33,6 +34,8 @@ struct opts {
 	int n_lid;
 	const char *low, *high; /* preset files or built-in names */
 	const char *windows_out;
+	const char *fmu_out; /* --fmu: write the FMU instead of running on a bus */
+	char inputs_dbc_path[4096]; /* the input database loaded */
 	struct hl_ecu_config cfg;
 	struct hl_ecu_mount mount[2];
 	int timeout_ms; /* -1: DEFAULT_TIMEOUT_CYCLES of each input's cycle time */
@@ -49,7 +52,7 @@ struct ecu_parts {
 static void usage(FILE *f)
 {
 	fprintf(f,
-		"usage: hdlamp ecu --can IFACE [--inputs-dbc FILE] [--dbc FILE]\n"
+		"usage: hdlamp ecu (--can IFACE | --fmu OUT.fmu) [--inputs-dbc FILE] [--dbc FILE]\n"
 		"                  [--lamps DIR | --lid LEFT --lid RIGHT] [--low PRESET] [--high PRESET]\n"
 		"                  [--camera X,Y,Z[,YAW,PITCH]] [--lamp-left X,Y,Z[,YAW,PITCH]]\n"
 		"                  [--lamp-right X,Y,Z[,YAW,PITCH]] [--timeout-ms MS] [--margin-deg D]\n"
@@ -74,7 +77,10 @@ static void usage(FILE *f)
 		"late=MS (sends every cycle MS late), stuck-counter (the alive counter stops),\n"
 		"bad-crc (every frame's CRC is wrong).\n"
 		"--cycles N stops after N cycles; --windows FILE writes every source's window (JSON).\n"
-		"Prints JSON lines: start, mode (each change), summary. SIGINT/SIGTERM end it.\n");
+		"Prints JSON lines: start, mode (each change), summary. SIGINT/SIGTERM end it.\n"
+		"\n"
+		"--fmu OUT.fmu writes the ECU so configured as an FMI 2.0 co-simulation FMU instead\n"
+		"(docs/ecu.md, \"The ECU as an FMU\"); the bus faults do not apply to it.\n");
 }
 
 static int bad(const char *opt, const char *arg, const char *expected)
@@ -174,6 +180,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		{ "fault", required_argument, NULL, 'F' },
 		{ "cycles", required_argument, NULL, 'n' },
 		{ "windows", required_argument, NULL, 'W' },
+		{ "fmu", required_argument, NULL, 'U' },
 		{ "help", no_argument, NULL, 'h' },
 		{ 0 },
 	};
@@ -265,6 +272,9 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		case 'W':
 			o->windows_out = optarg;
 			break;
+		case 'U':
+			o->fmu_out = optarg;
+			break;
 		case 'h':
 			usage(stdout);
 			return -1;
@@ -275,8 +285,12 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	}
 	if (optind < argc)
 		return bad("argument", argv[optind], "options only");
-	if (!o->bus.iface) {
-		fprintf(stderr, "hdlamp ecu: --can IFACE is required\n");
+	if (!o->bus.iface && !o->fmu_out) {
+		fprintf(stderr, "hdlamp ecu: --can IFACE or --fmu OUT.fmu is required\n");
+		return HL_EXIT_USAGE;
+	}
+	if (o->bus.iface && o->fmu_out) {
+		fprintf(stderr, "hdlamp ecu: --can and --fmu exclude each other\n");
 		return HL_EXIT_USAGE;
 	}
 	if (o->lamps_dir && o->n_lid) {
@@ -290,23 +304,23 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	return 0;
 }
 
-static int load_dbc(const char *arg, const char *shipped, struct hl_dbc **ret)
+/* The database of arg, else the shipped one; path (4096 bytes) gets the file's path. */
+static int load_dbc(const char *arg, const char *shipped, struct hl_dbc **ret, char *path)
 {
-	char path[4096];
 	struct hl_dbc_error err;
 	int rc;
 
 	if (arg) {
-		snprintf(path, sizeof(path), "%s", arg);
+		snprintf(path, 4096, "%s", arg);
 	} else {
-		rc = hl_share_dir("dbc", path, sizeof(path));
+		rc = hl_share_dir("dbc", path, 4096);
 		if (rc < 0) {
 			fprintf(stderr, "hdlamp ecu: cannot find the shipped databases: %s\n",
 				strerror(-rc));
 			return rc;
 		}
-		strncat(path, "/", sizeof(path) - strlen(path) - 1);
-		strncat(path, shipped, sizeof(path) - strlen(path) - 1);
+		strncat(path, "/", 4096 - strlen(path) - 1);
+		strncat(path, shipped, 4096 - strlen(path) - 1);
 	}
 	rc = hl_dbc_parse_file(path, ret, &err);
 	if (rc < 0) {
@@ -489,6 +503,34 @@ static int prepare(struct opts *o, struct ecu_parts *r, struct hl_dbc *dim_db, s
 	return rc;
 }
 
+/* --fmu: the ECU prepare() built, packed with what it was built from. */
+static int export_fmu(const struct opts *o, const struct ecu_parts *r, struct hl_lid *lids[2],
+		      const float *beams)
+{
+	struct hl_ecu_fmu_lamp lamps[2];
+	char paths[2][4096];
+
+	for (int s = 0; s < 2; s++) {
+		const float *low = beams + (size_t)2 * s * HL_LID_MAX_SOURCES;
+
+		lamps[s] = (struct hl_ecu_fmu_lamp){ .name = hl_side_name(s),
+						     .lid = lids[s],
+						     .mount = o->mount[s],
+						     .low = low,
+						     .high = low + HL_LID_MAX_SOURCES };
+		if (o->lamps_dir) {
+			snprintf(paths[s], sizeof(paths[s]), "%s/hd84_%s.lid.exr", o->lamps_dir,
+				 hl_side_name(s));
+			lamps[s].lid_path = paths[s];
+		} else if (o->n_lid) {
+			lamps[s].lid_path = o->lid[s];
+		} else {
+			lamps[s].builtin = s == 0 ? "hd84_left" : "hd84_right";
+		}
+	}
+	return hl_ecu_fmu_export(o->fmu_out, &o->cfg, o->inputs_dbc_path, r->map, lamps, 2);
+}
+
 int hl_cmd_ecu(int argc, char **argv)
 {
 	struct opts o = { 0 };
@@ -496,17 +538,23 @@ int hl_cmd_ecu(int argc, char **argv)
 	struct hl_dbc *dim_db = NULL, *in_db = NULL;
 	struct hl_lid *lids[2] = { NULL, NULL };
 	float *beams = NULL;
+	char dim_path[4096];
 	int rc = parse_args(argc, argv, &o), ret = HL_EXIT_FAIL;
 
 	if (rc != 0)
 		return rc < 0 ? HL_EXIT_OK : rc;
 	beams = malloc(sizeof(float) * 4 * HL_LID_MAX_SOURCES);
-	if (!beams || load_dbc(o.dbc, "hd84.dbc", &dim_db) < 0 ||
-	    load_dbc(o.inputs_dbc, "hd84_inputs.dbc", &in_db) < 0 || load_lamps(&o, lids) < 0 ||
-	    prepare(&o, &r, dim_db, in_db, lids, beams) < 0)
+	if (!beams || load_dbc(o.dbc, "hd84.dbc", &dim_db, dim_path) < 0 ||
+	    load_dbc(o.inputs_dbc, "hd84_inputs.dbc", &in_db, o.inputs_dbc_path) < 0 ||
+	    load_lamps(&o, lids) < 0 || prepare(&o, &r, dim_db, in_db, lids, beams) < 0)
 		goto out;
 	if (o.windows_out && write_windows(o.windows_out, r.e, lids) < 0)
 		goto out;
+	if (o.fmu_out) {
+		if (export_fmu(&o, &r, lids, beams) == 0)
+			ret = HL_EXIT_OK;
+		goto out;
+	}
 	if (hl_ecu_bus_run(&o.bus, &o.cfg, r.a, r.map, r.dec, r.e) == 0)
 		ret = HL_EXIT_OK;
 out:

@@ -19,7 +19,8 @@ def ecu(*args):
 
 
 @pytest.mark.parametrize("args,msg", [
-    ([], "hdlamp ecu: --can IFACE is required"),
+    ([], "hdlamp ecu: --can IFACE or --fmu OUT.fmu is required"),
+    (["--can", "vcan0", "--fmu", "x.fmu"], "hdlamp ecu: --can and --fmu exclude each other"),
     (["--can", "vcan0", "--fault", "late=0"],
      "hdlamp ecu: --fault 'late=0': expected ignore-objects, no-failsafe, late=MS (1..10000), "
      "stuck-counter or bad-crc"),
