@@ -74,7 +74,8 @@ static void send_or_exit(struct child *ch, const void *buf, size_t len)
 static void reply(struct child *ch, enum hl_fmu_call call, int status, const void *payload,
 		  size_t len)
 {
-	ch->out.msg = (struct hl_fmu_msg){ .kind = HL_FMU_MSG_REPLY, .status = status, .call = call };
+	ch->out.msg =
+		(struct hl_fmu_msg){ .kind = HL_FMU_MSG_REPLY, .status = status, .call = call };
 	if (len)
 		memcpy(ch->out.bytes + sizeof(ch->out.msg), payload, len);
 	send_or_exit(ch, ch->out.bytes, sizeof(ch->out.msg) + len);
@@ -214,7 +215,7 @@ static void step(struct child *ch, size_t len)
 	/* the parent builds these; a wrong size is a bug of ours, never the FMU's */
 	if (m->n_set > HL_FMU_MAX_BATCH || m->n_get > HL_FMU_MAX_BATCH ||
 	    len != sizeof(*m) + m->n_set * (sizeof(uint32_t) + sizeof(double)) +
-			   m->n_get * sizeof(uint32_t))
+			    m->n_get * sizeof(uint32_t))
 		_exit(4);
 	/* copied: after 4 * n_set bytes of references the values need not be aligned */
 	if (m->n_set) {
@@ -245,9 +246,10 @@ static void step(struct child *ch, size_t len)
 		}
 		memcpy(out, vals, m->n_get * sizeof(double));
 	}
-	ch->out.msg = (struct hl_fmu_msg){
-		.kind = HL_FMU_MSG_REPLY, .status = s, .call = HL_FMU_CALL_DO_STEP, .n_get = m->n_get
-	};
+	ch->out.msg = (struct hl_fmu_msg){ .kind = HL_FMU_MSG_REPLY,
+					   .status = s,
+					   .call = HL_FMU_CALL_DO_STEP,
+					   .n_get = m->n_get };
 	send_or_exit(ch, ch->out.bytes, sizeof(ch->out.msg) + m->n_get * sizeof(double));
 }
 
@@ -291,10 +293,10 @@ static void __attribute__((noreturn)) serve(struct child *ch)
  * that prints must not write into the parent's output, which other programs may read), no
  * descriptor of the parent's but the socket, and killed when the parent dies.
  */
-static void __attribute__((noreturn)) child_main(int fd, pid_t parent,
-						 const struct hl_fmu_child_args *a)
+static void __attribute__((noreturn))
+child_main(int fd, pid_t parent, const struct hl_fmu_child_args *a)
 {
-	static const int reset[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE, SIGTERM,
+	static const int reset[] = { SIGSEGV, SIGBUS, SIGFPE,  SIGILL,	SIGABRT, SIGPIPE, SIGTERM,
 				     SIGINT,  SIGHUP, SIGCHLD, SIGALRM, SIGUSR1, SIGUSR2 };
 	struct child *ch;
 	sigset_t none;

@@ -22,7 +22,7 @@
 
 #define HL_FMU_MAX_BATCH 4096 /* value references per set or get of one step */
 #define HL_FMU_MAX_LOG 2048 /* bytes of one log message (category and text), longer ones cut */
-#define HL_FMU_MSG_MAX                                                                         \
+#define HL_FMU_MSG_MAX \
 	(sizeof(struct hl_fmu_msg) + 2 * HL_FMU_MAX_BATCH * (sizeof(uint32_t) + sizeof(double)))
 
 enum hl_fmu_msg_kind {

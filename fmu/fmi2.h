@@ -58,8 +58,7 @@ typedef enum {
 
 /* 2.1.5: message may hold the escapes #<type><valueReference># (we pass it on as it is). */
 typedef void fmi2CallbackLogger_fn(fmi2ComponentEnvironment env, fmi2String instanceName,
-				   fmi2Status status, fmi2String category, fmi2String message,
-				   ...);
+				   fmi2Status status, fmi2String category, fmi2String message, ...);
 typedef void *fmi2CallbackAllocateMemory_fn(size_t nobj, size_t size);
 typedef void fmi2CallbackFreeMemory_fn(void *obj);
 typedef void fmi2StepFinished_fn(fmi2ComponentEnvironment env, fmi2Status status);
@@ -80,8 +79,8 @@ typedef const char *fmi2GetVersion_fn(void);
 /* 2.1.5: NULL when it fails. */
 typedef fmi2Component fmi2Instantiate_fn(fmi2String instanceName, fmi2Type fmuType,
 					 fmi2String fmuGUID, fmi2String fmuResourceLocation,
-					 const fmi2CallbackFunctions *functions, fmi2Boolean visible,
-					 fmi2Boolean loggingOn);
+					 const fmi2CallbackFunctions *functions,
+					 fmi2Boolean visible, fmi2Boolean loggingOn);
 typedef void fmi2FreeInstance_fn(fmi2Component c);
 
 /* 2.1.6 */

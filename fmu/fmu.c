@@ -51,8 +51,8 @@ const char *hl_fmu_type_name(enum hl_fmu_type t)
 
 const char *hl_fmu_causality_name(enum hl_fmu_causality c)
 {
-	static const char *const names[] = { "parameter", "calculatedParameter", "input",
-					     "output",    "local",		     "independent" };
+	static const char *const names[] = { "parameter", "calculatedParameter", "input", "output",
+					     "local",	  "independent" };
 
 	return (unsigned)c < sizeof(names) / sizeof(names[0]) ? names[c] : "?";
 }
@@ -62,7 +62,8 @@ static const char *status_name(int s)
 	static const char *const names[] = { "fmi2OK",	  "fmi2Warning", "fmi2Discard",
 					     "fmi2Error", "fmi2Fatal",	 "fmi2Pending" };
 
-	return s >= 0 && s < (int)(sizeof(names) / sizeof(names[0])) ? names[s] : "an unknown status";
+	return s >= 0 && s < (int)(sizeof(names) / sizeof(names[0])) ? names[s] :
+								       "an unknown status";
 }
 
 /* One line per message: control characters of the FMU's text become spaces. */
@@ -253,7 +254,8 @@ static int resource_uri(const char *dir, char *buf, size_t size)
 static int start_child(struct hl_fmu *f, double start_s, char *err, size_t err_size)
 {
 	char so[PATH_MAX + 64], uri[3 * PATH_MAX + 32];
-	struct hl_fmu_child_args a = { .instance = f->instance, .guid = f->md->guid,
+	struct hl_fmu_child_args a = { .instance = f->instance,
+				       .guid = f->md->guid,
 				       .start_s = start_s };
 	const struct hl_fmu_msg *m = (const struct hl_fmu_msg *)f->buf;
 	size_t len;
@@ -267,8 +269,9 @@ static int start_child(struct hl_fmu *f, double start_s, char *err, size_t err_s
 	}
 	if (access(so, R_OK) < 0) {
 		r = -errno;
-		snprintf(err, err_size, "'%s': no binaries/linux64/%s.so: no binary for linux64 (%s)",
-			 f->path, f->md->identifier, strerror(-r));
+		snprintf(err, err_size,
+			 "'%s': no binaries/linux64/%s.so: no binary for linux64 (%s)", f->path,
+			 f->md->identifier, strerror(-r));
 		return r;
 	}
 	a.so_path = so;
@@ -367,8 +370,8 @@ void hl_fmu_close(struct hl_fmu *f)
 		*m = (struct hl_fmu_msg){ .kind = HL_FMU_MSG_END };
 		if (send_msg(f, sizeof(*m), "fmi2Terminate and fmi2FreeInstance", err,
 			     sizeof(err)) < 0 ||
-		    await_reply(f, "fmi2Terminate and fmi2FreeInstance", &len, err,
-				sizeof(err)) < 0 ||
+		    await_reply(f, "fmi2Terminate and fmi2FreeInstance", &len, err, sizeof(err)) <
+			    0 ||
 		    check_status(f, "", err, sizeof(err)) < 0)
 			fprintf(f->log, "fmu %s: %s\n", f->instance, err);
 	}
@@ -564,8 +567,10 @@ int hl_fmu_step(struct hl_fmu *f, double t_s, double h_s, const int *idx, double
 	if (r < 0)
 		goto out;
 	if (m->n_get != (uint32_t)n || len != sizeof(*m) + (size_t)n * sizeof(double)) {
-		snprintf(err, err_size, "'%s': the FMU's process answered the step at t=%g s "
-			 "with %zu bytes", f->path, t_s, len);
+		snprintf(err, err_size,
+			 "'%s': the FMU's process answered the step at t=%g s "
+			 "with %zu bytes",
+			 f->path, t_s, len);
 		r = -EPROTO;
 		goto out;
 	}

@@ -65,15 +65,14 @@ static int required(const struct reader *rd, const xmlNode *n, const char *name,
 	if (!*ret || !**ret) {
 		xmlFree(*ret);
 		*ret = NULL;
-		return bad(rd, -EBADMSG, line_of(n), "<%s> has no %s", (const char *)n->name,
-			   name);
+		return bad(rd, -EBADMSG, line_of(n), "<%s> has no %s", (const char *)n->name, name);
 	}
 	return 0;
 }
 
 /* value among names[] (NULL-terminated), its index; absent: dflt. -EBADMSG otherwise. */
-static int pick(const struct reader *rd, const xmlNode *n, const char *name, const char *const *names,
-		int dflt, const char *var)
+static int pick(const struct reader *rd, const xmlNode *n, const char *name,
+		const char *const *names, int dflt, const char *var)
 {
 	char *v = attr(n, name);
 	int r = dflt;
@@ -199,7 +198,8 @@ static int read_root(const struct reader *rd, const xmlNode *root, struct hl_fmu
 		return r;
 	if (strcmp(version, "2.0") != 0) {
 		r = bad(rd, -ENOTSUP, line_of(root),
-			"fmiVersion \"%s\": only FMI 2.0 (fmiVersion \"2.0\") is supported", version);
+			"fmiVersion \"%s\": only FMI 2.0 (fmiVersion \"2.0\") is supported",
+			version);
 		xmlFree(version);
 		return r;
 	}

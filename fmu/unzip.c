@@ -131,7 +131,8 @@ int hl_fmu_unzip(const char *path, char *ret_dir, size_t dir_size, char *err, si
 			return r;
 		}
 		zip_error_init_with_code(&ze, zerr);
-		snprintf(err, err_size, "'%s': not a zip archive (%s)", path, zip_error_strerror(&ze));
+		snprintf(err, err_size, "'%s': not a zip archive (%s)", path,
+			 zip_error_strerror(&ze));
 		zip_error_fini(&ze);
 		return -EBADMSG;
 	}
