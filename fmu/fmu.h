@@ -28,30 +28,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-enum hl_fmu_type {
-	HL_FMU_REAL,
-	HL_FMU_INTEGER,
-	HL_FMU_BOOLEAN,
-	HL_FMU_STRING,
-	HL_FMU_ENUMERATION,
-};
-
-enum hl_fmu_causality {
-	HL_FMU_PARAMETER,
-	HL_FMU_CALCULATED_PARAMETER,
-	HL_FMU_INPUT,
-	HL_FMU_OUTPUT,
-	HL_FMU_LOCAL,
-	HL_FMU_INDEPENDENT,
-};
-
-struct hl_fmu_var {
-	const char *name;
-	uint32_t vr; /* valueReference */
-	enum hl_fmu_type type;
-	enum hl_fmu_causality causality;
-	int line; /* its line in modelDescription.xml */
-};
+#include "fmu/var.h"
 
 struct hl_fmu_options {
 	double step_s; /* the communication step the caller will use (for the log only) */

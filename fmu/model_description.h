@@ -16,7 +16,7 @@
 
 #include <stddef.h>
 
-#include "fmu/fmu.h"
+#include "fmu/var.h"
 
 struct hl_fmu_md {
 	char *model_name;
