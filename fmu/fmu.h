@@ -28,30 +28,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-enum hl_fmu_type {
-	HL_FMU_REAL,
-	HL_FMU_INTEGER,
-	HL_FMU_BOOLEAN,
-	HL_FMU_STRING,
-	HL_FMU_ENUMERATION,
-};
-
-enum hl_fmu_causality {
-	HL_FMU_PARAMETER,
-	HL_FMU_CALCULATED_PARAMETER,
-	HL_FMU_INPUT,
-	HL_FMU_OUTPUT,
-	HL_FMU_LOCAL,
-	HL_FMU_INDEPENDENT,
-};
-
-struct hl_fmu_var {
-	const char *name;
-	uint32_t vr; /* valueReference */
-	enum hl_fmu_type type;
-	enum hl_fmu_causality causality;
-	int line; /* its line in modelDescription.xml */
-};
+#include "fmu/var.h"
 
 struct hl_fmu_options {
 	double step_s; /* the communication step the caller will use (for the log only) */
@@ -80,7 +57,8 @@ int hl_fmu_find(const struct hl_fmu *f, const char *name);
 
 /*
  * Sets n Real variables (indices idx[], values v[]) for the next step. Batched: the values
- * travel with the next hl_fmu_step. 0, -EINVAL (not a Real, not an input or parameter).
+ * travel with the next hl_fmu_step. 0, -EINVAL (not a Real, not an input or parameter);
+ * hl_fmu_error() then says which variable and why. Nothing is set when one of them is wrong.
  */
 int hl_fmu_set_real(struct hl_fmu *f, const int *idx, const double *v, int n);
 /*
@@ -90,6 +68,16 @@ int hl_fmu_set_real(struct hl_fmu *f, const int *idx, const double *v, int n);
  */
 int hl_fmu_step(struct hl_fmu *f, double t_s, double h_s, const int *idx, double *ret, int n,
 		char *err, size_t err_size);
+
+/*
+ * The message of the last hl_fmu_set_real or hl_fmu_step that failed, "" after one that did
+ * not. Owned by f, valid until the next call on it.
+ */
+const char *hl_fmu_error(const struct hl_fmu *f);
+/* The child process's id while it runs, 0 once it has been reaped. */
+int hl_fmu_pid(const struct hl_fmu *f);
+/* The absolute path of the directory the archive was unpacked into (removed by close). */
+const char *hl_fmu_dir(const struct hl_fmu *f);
 
 const char *hl_fmu_type_name(enum hl_fmu_type t);
 const char *hl_fmu_causality_name(enum hl_fmu_causality c);
