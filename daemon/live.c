@@ -412,6 +412,8 @@ static int report(struct live *lv, const char *end, int code)
 		.loop = lv->loop,
 		.restbus = lv->restbus,
 		.end = end,
+		.ecu = hl_live_ecu_name(lv->ecu),
+		.ecu_error = hl_live_ecu_error_text(lv->ecu),
 	};
 
 	return hl_run_report_end(&src, lv->cfg.loop_report, lv->cfg.loop_exit_at_end, code);

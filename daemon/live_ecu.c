@@ -206,6 +206,24 @@ int hl_live_ecu_error(struct hl_live_ecu *le)
 	return le && le->rt ? hl_vbus_rt_error(le->rt) : 0;
 }
 
+/* Read after the bus's thread stopped (or under the lock it writes it with). */
+const char *hl_live_ecu_error_text(struct hl_live_ecu *le)
+{
+	const char *e;
+
+	if (!le)
+		return NULL;
+	pthread_mutex_lock(&le->lock);
+	e = le->error[0] ? le->error : NULL;
+	pthread_mutex_unlock(&le->lock);
+	return e;
+}
+
+const char *hl_live_ecu_name(const struct hl_live_ecu *le)
+{
+	return le && le->node ? hl_ecu_node_name(le->node) : NULL;
+}
+
 void hl_live_ecu_status_json(struct hl_live_ecu *le, FILE *f)
 {
 	struct hl_ecu_node_counts c;

@@ -39,6 +39,9 @@ void hl_live_ecu_stop(struct hl_live_ecu *le);
 void hl_live_ecu_free(struct hl_live_ecu *le);
 /* The ECU's error that stopped it (an FMU's), 0 while it runs. */
 int hl_live_ecu_error(struct hl_live_ecu *le);
+/* What stopped it, NULL while it runs (or without one); its name ("reference", the FMU's file). */
+const char *hl_live_ecu_error_text(struct hl_live_ecu *le);
+const char *hl_live_ecu_name(const struct hl_live_ecu *le);
 /* ,"ecu":{...} for /status and the exit summary. */
 void hl_live_ecu_status_json(struct hl_live_ecu *le, FILE *f);
 

@@ -19,6 +19,8 @@ void hl_run_report_collect(const struct hl_run_report_sources *s, struct hl_loop
 		.sc = s->sc,
 		.glare_set = s->glare_set,
 		.end = s->end,
+		.ecu = s->ecu,
+		.ecu_error = s->ecu_error,
 		.n_lamps = s->n_lamps,
 		.lamp_names = s->lamp_names,
 		.frames = pc.frames,

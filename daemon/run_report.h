@@ -33,7 +33,9 @@ struct hl_run_report_sources {
 	const struct hl_verdicts *verdicts; /* may be NULL */
 	struct hl_loop_latency *loop; /* finished (hl_loop_latency_finish) */
 	struct hl_restbus *restbus; /* may be NULL */
-	const char *end; /* how the run ended: "scenario_end", "replay_end", "signal" */
+	const char *end; /* how the run ended: "scenario_end", "replay_end", "signal", "ecu_error" */
+	const char *ecu; /* ecu.model's name, NULL: an ECU outside */
+	const char *ecu_error; /* what stopped the in-process ECU, NULL: nothing */
 };
 
 /* The report's data from the sources. */

@@ -514,6 +514,8 @@ int hl_sil_run(const struct hl_sil_options *o)
 	}
 	hl_loop_latency_finish(s->loop);
 	fill_report(s, end);
+	if (rc < 0)
+		s->rep.ecu_error = err;
 	code = rc < 0 ? 1 : hl_loop_report_passed(&s->rep) ? 0 : 3;
 	if (o->report) {
 		const int wr = hl_loop_report_write(&s->rep, o->report);

@@ -35,6 +35,7 @@ struct opts {
 	const char *low, *high; /* preset files or built-in names */
 	const char *windows_out;
 	const char *fmu_out; /* --fmu: write the FMU instead of running on a bus */
+	struct hl_ecu_fmu_faults fmu_faults; /* --fault step-error=N, step-crash=N (--fmu only) */
 	char inputs_dbc_path[4096]; /* the input database loaded */
 	struct hl_ecu_config cfg;
 	struct hl_ecu_mount mount[2];
@@ -80,7 +81,9 @@ static void usage(FILE *f)
 		"Prints JSON lines: start, mode (each change), summary. SIGINT/SIGTERM end it.\n"
 		"\n"
 		"--fmu OUT.fmu writes the ECU so configured as an FMI 2.0 co-simulation FMU instead\n"
-		"(docs/ecu.md, \"The ECU as an FMU\"); the bus faults do not apply to it.\n");
+		"(docs/ecu.md, \"The ECU as an FMU\"); the bus faults do not apply to it; its own,\n"
+		"for tests of an importer: step-error=N (the Nth fmi2DoStep returns fmi2Error),\n"
+		"step-crash=N (the Nth fmi2DoStep crashes with a segmentation fault).\n");
 }
 
 static int bad(const char *opt, const char *arg, const char *expected)
@@ -153,6 +156,15 @@ static int parse_fault(const char *s, struct opts *o)
 		if (errno || end == s + 5 || *end || ms < 1 || ms > HL_ECU_BUS_MAX_LATE_MS)
 			return -EINVAL;
 		o->bus.late_ms = (int)ms;
+	} else if (strncmp(s, "step-error=", 11) == 0 || strncmp(s, "step-crash=", 11) == 0) {
+		errno = 0;
+		ms = strtol(s + 11, &end, 10);
+		if (errno || end == s + 11 || *end || ms < 1 || ms > 1000000000)
+			return -EINVAL;
+		if (s[5] == 'e')
+			o->fmu_faults.step_error = (int)ms;
+		else
+			o->fmu_faults.step_crash = (int)ms;
 	} else
 		return -EINVAL;
 	return 0;
@@ -262,7 +274,8 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			if (parse_fault(optarg, o) < 0)
 				return bad("--fault", optarg,
 					   "ignore-objects, no-failsafe, late=MS (1..10000), "
-					   "stuck-counter or bad-crc");
+					   "stuck-counter, bad-crc, or with --fmu step-error=N or "
+					   "step-crash=N");
 			break;
 		case 'n':
 			if (parse_num(optarg, 1, 1e12, &v) < 0 || v != floor(v))
@@ -287,6 +300,11 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		return bad("argument", argv[optind], "options only");
 	if (!o->bus.iface && !o->fmu_out) {
 		fprintf(stderr, "hdlamp ecu: --can IFACE or --fmu OUT.fmu is required\n");
+		return HL_EXIT_USAGE;
+	}
+	if (!o->fmu_out && (o->fmu_faults.step_error || o->fmu_faults.step_crash)) {
+		fprintf(stderr, "hdlamp ecu: --fault step-error and step-crash are the FMU's: "
+				"they need --fmu\n");
 		return HL_EXIT_USAGE;
 	}
 	if (o->bus.iface && o->fmu_out) {
@@ -528,7 +546,7 @@ static int export_fmu(const struct opts *o, const struct ecu_parts *r, struct hl
 			lamps[s].builtin = s == 0 ? "hd84_left" : "hd84_right";
 		}
 	}
-	return hl_ecu_fmu_export(o->fmu_out, &o->cfg, o->inputs_dbc_path, r->map, lamps, 2);
+	return hl_ecu_fmu_export(o->fmu_out, &o->cfg, &o->fmu_faults, o->inputs_dbc_path, r->map, lamps, 2);
 }
 
 int hl_cmd_ecu(int argc, char **argv)

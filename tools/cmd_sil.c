@@ -85,6 +85,7 @@ int hl_cmd_sil(int argc, char **argv)
 	if (!cfg)
 		return 1;
 	hl_config_defaults(cfg);
+	cfg->dbc[0] = '\0'; /* the shipped hd84.dbc beside the binary, wherever one runs it */
 	hl_ecu_config_default(&o.ref);
 	/* --config first, wherever it stands, so that --set overrides it */
 	for (int i = 1; i + 1 < argc; i++)

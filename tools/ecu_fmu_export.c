@@ -170,7 +170,8 @@ static void beam_json(FILE *f, const float *v, int n)
 }
 
 /* resources/ecu.json (read by ecu/fmu/reference_fmu.c), guid NULL for the hash's version. */
-static int ecu_json(const struct hl_ecu_config *cfg, const char *dbc_name,
+static int ecu_json(const struct hl_ecu_config *cfg, const struct hl_ecu_fmu_faults *ff,
+		    const char *dbc_name,
 		    const struct hl_ecu_fmu_lamp *lamps, const char *const *lid_names, int n_lamps,
 		    const char *guid, char **ret, size_t *ret_size)
 {
@@ -197,7 +198,8 @@ static int ecu_json(const struct hl_ecu_config *cfg, const char *dbc_name,
 			cfg->faults & HL_ECU_FAULT_NO_FAILSAFE ? ", " : "");
 	if (cfg->faults & HL_ECU_FAULT_NO_FAILSAFE)
 		fprintf(f, "\"no-failsafe\"");
-	fprintf(f, "],\n  \"lamps\": [");
+	fprintf(f, "],\n  \"step_error\": %d,\n  \"step_crash\": %d,\n  \"lamps\": [",
+		ff ? ff->step_error : 0, ff ? ff->step_crash : 0);
 	for (int l = 0; l < n_lamps; l++) {
 		const int n = hl_lid_n_sources(lamps[l].lid);
 
@@ -346,8 +348,9 @@ static const char *base_name(const char *path)
 }
 
 int hl_ecu_fmu_export(const char *out_path, const struct hl_ecu_config *cfg,
-		      const char *inputs_dbc_path, const struct hl_inputs_map *map,
-		      const struct hl_ecu_fmu_lamp *lamps, int n_lamps)
+		      const struct hl_ecu_fmu_faults *faults, const char *inputs_dbc_path,
+		      const struct hl_inputs_map *map, const struct hl_ecu_fmu_lamp *lamps,
+		      int n_lamps)
 {
 	struct pack p = { .n = 0 };
 	const struct hl_lid *lids[HL_ECU_MAX_LAMPS];
@@ -395,7 +398,7 @@ int hl_ecu_fmu_export(const char *out_path, const struct hl_ecu_config *cfg,
 	if (rc < 0)
 		goto out;
 	/* the guid hashes every entry, ecu.json without its guid and with the variables */
-	rc = ecu_json(cfg, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, NULL, &json->data,
+	rc = ecu_json(cfg, faults, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, NULL, &json->data,
 		      &json->size);
 	if (rc == 0)
 		rc = model_description(io, "", &md->data, &md->size);
@@ -405,7 +408,7 @@ int hl_ecu_fmu_export(const char *out_path, const struct hl_ecu_config *cfg,
 	free(json->data);
 	free(md->data);
 	json->data = md->data = NULL;
-	rc = ecu_json(cfg, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, guid, &json->data,
+	rc = ecu_json(cfg, faults, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, guid, &json->data,
 		      &json->size);
 	if (rc == 0)
 		rc = model_description(io, guid, &md->data, &md->size);

@@ -26,8 +26,18 @@ struct hl_ecu_fmu_lamp {
  * inputs_dbc_path the input database file that map was built from. Prints what failed to
  * stderr as "hdlamp ecu: ..."; 0 or a negative errno.
  */
+/*
+ * The FMU's own faults, for tests of an importer (`hdlamp ecu --fault step-error=N`,
+ * `step-crash=N`): its Nth fmi2DoStep returns fmi2Error, or crashes the process with a
+ * segmentation fault; 0: none.
+ */
+struct hl_ecu_fmu_faults {
+	int step_error, step_crash;
+};
+
 int hl_ecu_fmu_export(const char *out_path, const struct hl_ecu_config *cfg,
-		      const char *inputs_dbc_path, const struct hl_inputs_map *map,
-		      const struct hl_ecu_fmu_lamp *lamps, int n_lamps);
+		      const struct hl_ecu_fmu_faults *faults, const char *inputs_dbc_path,
+		      const struct hl_inputs_map *map, const struct hl_ecu_fmu_lamp *lamps,
+		      int n_lamps);
 
 #endif

@@ -38,6 +38,7 @@ enum {
 	NOT_JUDGED = 2,
 	SET_FAILED = 4,
 	GLARE_FAILED = 8,
+	ECU_FAILED = 16,
 };
 
 static unsigned failures(const struct hl_loop_report *s)
@@ -55,6 +56,8 @@ static unsigned failures(const struct hl_loop_report *s)
 			why |= SET_FAILED;
 	if (!hl_loop_latency_passed(s->loop))
 		why |= GLARE_FAILED;
+	if (s->ecu_error)
+		why |= ECU_FAILED;
 	return why;
 }
 
@@ -69,7 +72,8 @@ void hl_loop_report_json(const struct hl_loop_report *s, FILE *f)
 		"no frame rendered", "frames not judged (the hand-over ring was full)",
 		"a verdict set failed on a frame",
 		("a road user's glare over its limit after the reaction time (or, without a "
-		 "restbus, at all)")
+		 "restbus, at all)"),
+		"the ECU in the loop failed: the run did not reach the scenario's end",
 	};
 	const unsigned why = failures(s);
 	bool first = true;
@@ -83,6 +87,10 @@ void hl_loop_report_json(const struct hl_loop_report *s, FILE *f)
 	if (s->ecu) {
 		fputs(",\"ecu\":", f);
 		hl_json_write_str(f, s->ecu);
+	}
+	if (s->ecu_error) {
+		fputs(",\"ecu_error\":", f);
+		hl_json_write_str(f, s->ecu_error);
 	}
 	fprintf(f,
 		",\"frames\":{\"rendered\":%" PRIu64 ",\"not_published\":%" PRIu64
@@ -133,7 +141,7 @@ void hl_loop_report_json(const struct hl_loop_report *s, FILE *f)
 			s->restbus.tx_full, s->restbus.tx_errors, s->restbus.link_down);
 	}
 	fprintf(f, ",\"verdict\":%s,\"failed_because\":[", why ? "false" : "true");
-	for (unsigned b = 0; b < 4; b++) {
+	for (unsigned b = 0; b < sizeof(reasons) / sizeof(reasons[0]); b++) {
 		if (!(why & (1u << b)))
 			continue;
 		fprintf(f, "%s\"%s\"", first ? "" : ",", reasons[b]);

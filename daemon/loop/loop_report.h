@@ -32,6 +32,7 @@ struct hl_loop_report {
 	const char *glare_set; /* the glare limits' regulation set */
 	const char *end; /* how the run ended: "scenario_end", "replay_end", "signal" */
 	const char *ecu; /* the ECU in the loop when it is ours to name (sil), else NULL */
+	const char *ecu_error; /* what stopped the in-process ECU (the verdict fails), else NULL */
 	int n_lamps;
 	const char *const *lamp_names;
 	/* frames */

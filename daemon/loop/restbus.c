@@ -416,6 +416,10 @@ int hl_restbus_start(struct hl_restbus *rb, int64_t t0_ns)
 	int rc;
 
 	rb->t0_ns = t0_ns; /* the thread's, read before it starts */
+	/* no interval before two consecutive deadlines were sent (a first send at deadline 1 has
+	 * no interval from a send at 0 that never was) */
+	for (int i = 0; i < HL_RESTBUS_MAX_MESSAGES; i++)
+		rb->last_deadline_idx[i] = -2;
 	pthread_mutex_lock(&rb->lock);
 	rb->c.t0_ns = t0_ns;
 	pthread_mutex_unlock(&rb->lock);
