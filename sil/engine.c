@@ -66,6 +66,7 @@ struct sil {
 	struct hl_combiner *comb[N_LAMPS];
 	struct lamp_state lamp[N_LAMPS];
 	int64_t first_fresh_ns; /* when the oldest fresh cycle waiting for a frame ended */
+	int64_t coalesce_ns; /* render.coalesce_ms: how long a fresh cycle waits for the other */
 	struct hl_frame frame;
 	struct hl_loop_report rep;
 	bool asm_error_logged;
@@ -206,20 +207,22 @@ static void frame(struct sil *s, int64_t t)
 	s->first_fresh_ns = INT64_MAX;
 }
 
-/* A frame when every live lamp has a fresh cycle. */
+/*
+ * A frame when every live lamp (valid, not stale) has a fresh cycle, or at once with
+ * render.coalesce_ms 0; else the run loop makes it when the window ends (as the daemon's render
+ * thread waits for the other lamp's cycle of the same ECU period, daemon/pipeline.c).
+ */
 static void maybe_frame(struct sil *s, int64_t t)
 {
-	bool any = false;
+	bool any = false, lagging = false;
 
 	for (int l = 0; l < N_LAMPS; l++) {
-		const bool live = s->lamp[l].valid && !hl_assembler_stale(s->a, l);
-
 		if (s->lamp[l].fresh)
 			any = true;
-		else if (live)
-			return;
+		else if (s->lamp[l].valid && !hl_assembler_stale(s->a, l))
+			lagging = true;
 	}
-	if (any)
+	if (any && (!lagging || s->coalesce_ns == 0))
 		frame(s, t);
 }
 
@@ -271,6 +274,7 @@ static int setup(struct sil *s)
 	s->lamp_names[0] = "left";
 	s->lamp_names[1] = "right";
 	s->first_fresh_ns = INT64_MAX;
+	s->coalesce_ns = llround(s->cfg.coalesce_ms * 1e6);
 	rc = load_dbc(s, s->cfg.dbc, "hd84.dbc", "can.dbc", &s->lamp_db);
 	if (rc < 0)
 		return rc;
@@ -444,15 +448,15 @@ static int run(struct sil *s, int64_t t_end, char *err, size_t err_size)
 
 		t = min64(t, min64(hl_ecu_node_next_step(s->ecu), hl_ecu_node_next_send(s->ecu)));
 		if (s->first_fresh_ns != INT64_MAX)
-			t = min64(t, s->first_fresh_ns + ECU_PERIOD_NS);
+			t = min64(t, s->first_fresh_ns + s->coalesce_ns);
 		t = min64(t, hl_assembler_next_deadline(s->a));
 		if (t > t_end)
 			break;
 		hl_vbus_run_until(s->bus, t); /* deliveries first: what ends at t is there at t */
 		if (hl_assembler_expire(s->a, t))
 			maybe_frame(s, t);
-		if (s->first_fresh_ns != INT64_MAX && t >= s->first_fresh_ns + ECU_PERIOD_NS)
-			frame(s, t); /* a lamp's cycle waited a whole period for the other */
+		if (s->first_fresh_ns != INT64_MAX && t >= s->first_fresh_ns + s->coalesce_ns)
+			frame(s, t); /* the other lamp's cycle did not come within render.coalesce_ms */
 		if (hl_restbus_node_next(s->rb) == t)
 			hl_restbus_node_run(s->rb, t);
 		if (hl_ecu_node_next_step(s->ecu) == t || hl_ecu_node_next_send(s->ecu) == t) {
