@@ -196,3 +196,51 @@ def test_bad_options(hdlamp, tmp_path):
     assert p.returncode == 2 and "bus.txt" in p.stderr
     p = sil(hdlamp)
     assert p.returncode == 2 and "usage: hdlamp sil" in p.stderr
+
+
+def test_latency_is_the_derivation(hdlamp, tmp_path):
+    """docs/loop.md, "In virtual time: the exact derivation": the report's input, mask and frame
+    times of the car's enter event are the sums of the wire times of the frames that carried
+    them, counted here bit by bit (tests/it/canwire.py) from the run's own trace, to the ns."""
+    import canwire
+    p = sil(hdlamp, STRAIGHT, "--report", tmp_path / "r.json", "--trace", tmp_path / "bus.log")
+    assert p.returncode == 0, p.stderr
+    r = json.loads((tmp_path / "r.json").read_text())
+    ev = [e for e in r["loop"]["event_list"] if e["event"] == "enter"]
+    assert len(ev) == 1 and ev[0]["masked"]
+    ev = ev[0]
+    frames = []
+    for line in (tmp_path / "bus.log").read_text().splitlines():
+        t, _, f = line.split()
+        can_id, data = f.split("#")
+        frames.append((round(float(t.strip("()")) * 1e6), int(can_id, 16), bytes.fromhex(data)))
+    bit_ns = 2000  # 500 kbit/s
+    ifs = canwire.INTERMISSION * bit_ns
+
+    def w(f):
+        return canwire.frame_bits(f[1], f[2]) * bit_ns
+
+    def sent_at(d_ns, ids, n):
+        """The first n frames of these IDs that end after d: back to back from d on."""
+        fs = [f for f in frames if f[0] * 1000 > d_ns and f[1] in ids][:n]
+        # the trace's own times agree with the model frame by frame (µs in candump -L)
+        end = d_ns
+        for k, f in enumerate(fs):
+            end += (ifs if k else 0) + w(f)
+            assert f[0] == end // 1000, (f, end)
+        return end
+
+    d = ev["t_enter_ns"]
+    assert d == 1480000000 and ev["t_enter_s"] == 1.48
+    # input: the vehicle state, then the car's info and box frames
+    t_input = sent_at(d, {0x110, 0x121, 0x122}, 3)
+    assert ev["t_input_ns"] == t_input
+    assert t_input - d == 696000  # docs/loop.md: 115 + 113 + 114 bits and two intermissions
+    # mask: the ECU's next step, the vehicle state of that deadline, the 24 masked pages
+    s = d + 20000000
+    t_mask = sent_at(s, {0x110, 0x320, 0x321}, 25)
+    assert ev["t_mask_ns"] == t_mask and t_mask - d == 25976000
+    # frame: the right lamp's cycle waited render.coalesce_ms (2 ms) for the left's next
+    assert ev["t_frame_ns"] == t_mask + 2000000
+    assert r["loop"]["latency_ms"]["mask"]["max"] == 25.976
+    assert r["loop"]["latency_ms"]["frame"]["max"] == 27.976

@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * can/vbus_wire: the wire time of frames against their bit strings written out by hand. Each
- * string is the frame as sent from SOF to the end of the CRC sequence (classic) or CRC field
- * (FD); fields are separated by spaces and every stuff bit is written in brackets. The test
- * checks the string itself first: its CRC by long division of the unstuffed bits, its stuff
- * bits where the rule puts them; then hl_vbus_wire() against its length.
+ * can/vbus_wire: the wire time of frames against their bit strings, written out. Each string
+ * is the frame as sent from SOF to the end of the CRC sequence (classic) or CRC field (FD);
+ * fields are separated by spaces and every stuff bit is written in brackets. The strings were
+ * made outside the code under test (a script, not kept) and are checked here first — the CRC
+ * by long division of the unstuffed bits, the stuff bits where the rule puts them — and the
+ * classic ones again by tests/it/test_canwire.py with a bit-level model of its own
+ * (tests/it/canwire.py); then hl_vbus_wire() against their length.
  */
 #include <errno.h>
 #include <setjmp.h>
