@@ -77,6 +77,24 @@ def closed_loop(hdlamp, tmp_path, *ecu_args):
     return d.returncode, rep, lines, ecu_events
 
 
+def sil_agrees(hdlamp, tmp_path, rep, *ecu_args):
+    """docs/sil.md: the same scenario in virtual time (hdlamp sil, the reference ECU in process
+    on the virtual bus) gives the verdict vcan gave and the same event list: which road users,
+    entering and leaving in which order."""
+    sil_report = tmp_path / "sil.json"
+    p = subprocess.run([hdlamp, "sil", SCENARIO, "--report", str(sil_report), *ecu_args,
+                        "--set", "restbus.light_switch=high", "--set", "restbus.adb_enable=true",
+                        "--set", f"loop.reaction_ms={REACTION_MS:g}"],
+                       capture_output=True, text=True, timeout=900)
+    sil = json.loads(sil_report.read_text())
+    print("sil:", p.stderr[-600:], json.dumps(sil["loop"]["event_list"]))
+    assert p.returncode == (0 if rep["verdict"] else 3)
+    assert sil["verdict"] == rep["verdict"]
+    assert [(e["event"], e["actor"]) for e in sil["loop"]["event_list"]] == \
+        [(e["event"], e["actor"]) for e in rep["loop"]["event_list"]]
+    assert [a["id"] for a in sil["loop"]["actors"]] == [a["id"] for a in rep["loop"]["actors"]]
+
+
 def oncoming(rep):
     (a,) = [a for a in rep["loop"]["actors"] if a["id"] == "oncoming-car"]
     return a
@@ -133,6 +151,7 @@ def test_closed_loop_glare_free_high_beam_holds_its_verdict(hdlamp, tmp_path):
     # not a low beam, kept the glare down afterwards
     assert car["frames_over_unseen"] > 0
     assert e["t_enter_s"] > 0.5
+    sil_agrees(hdlamp, tmp_path, rep)
 
 
 def test_closed_loop_ecu_ignoring_objects_fails_the_verdict(hdlamp, tmp_path):
@@ -150,3 +169,4 @@ def test_closed_loop_ecu_ignoring_objects_fails_the_verdict(hdlamp, tmp_path):
     # the geometry took it out of the beam (passing by), if at all
     (e,) = [e for e in rep["loop"]["event_list"] if e["event"] == "enter"]
     assert e["masked"] is False or e["latency_ms"]["mask"] > REACTION_MS + 1000.0
+    sil_agrees(hdlamp, tmp_path, rep, "--fault", "ignore-objects")
