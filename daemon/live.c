@@ -201,6 +201,7 @@ static int setup_renderer(struct live *lv, int n_src)
 		.pose = lv->pose,
 		.restbus = lv->restbus,
 		.loop = lv->loop,
+		.ecu = lv->ecu,
 	};
 	int rc;
 

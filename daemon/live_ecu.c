@@ -161,7 +161,9 @@ int hl_live_ecu_start(struct hl_live_ecu *le, const struct hl_config *cfg,
 	le->nc.period_ns = ECU_PERIOD_NS;
 	le->nc.start_ns = hl_clock_monotonic_ns();
 	le->nc.log = stderr;
+	pthread_mutex_lock(&le->lock); /* /status reads it from the HTTP thread */
 	rc = hl_ecu_node_new(&le->nc, le->bus, &le->node, err, sizeof(err));
+	pthread_mutex_unlock(&le->lock);
 	if (rc < 0) {
 		hl_live_log("ecu.model: %s", err);
 		*ret_config_error = rc != -ENOMEM;
@@ -230,9 +232,13 @@ void hl_live_ecu_status_json(struct hl_live_ecu *le, FILE *f)
 	struct hl_vbus_counts bc;
 	char error[512];
 
-	if (!le || !le->node)
+	if (!le)
 		return;
 	pthread_mutex_lock(&le->lock);
+	if (!le->node) {
+		pthread_mutex_unlock(&le->lock);
+		return;
+	}
 	c = le->counts;
 	snprintf(error, sizeof(error), "%s", le->error);
 	pthread_mutex_unlock(&le->lock);

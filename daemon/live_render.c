@@ -273,6 +273,7 @@ static int setup_outputs(struct hl_live_render *r)
 		.pose = pt->pose,
 		.restbus = pt->restbus,
 		.loop = pt->loop,
+		.ecu = pt->ecu,
 	};
 	struct hl_capture_queue_config cq = {
 		.dir = r->cfg.capture_dir,

@@ -17,6 +17,7 @@
 
 #include "can/assembler.h"
 #include "daemon/core/can_input.h"
+#include "daemon/live_ecu.h"
 #include "daemon/core/config.h"
 #include "daemon/core/glare_live.h"
 #include "daemon/core/ring.h"
@@ -45,6 +46,7 @@ struct hl_live_render_parts {
 	struct hl_pose_input *pose;
 	struct hl_restbus *restbus; /* NULL: none */
 	struct hl_loop_latency *loop; /* NULL: none; published frames are handed to it */
+	struct hl_live_ecu *ecu; /* NULL: none (an ECU outside); its part of /status */
 };
 
 struct hl_live_render;

@@ -365,6 +365,7 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 	}
 	if (s->restbus)
 		hl_restbus_status_json(s->restbus, f);
+	hl_live_ecu_status_json(s->ecu, f); /* nothing without one */
 	if (s->loop)
 		hl_loop_latency_status_json(s->loop, f);
 	fputc('}', f);

@@ -26,6 +26,7 @@
 #include "daemon/pipeline.h"
 #include "daemon/loop/pose_input.h"
 #include "daemon/loop/loop_latency.h"
+#include "daemon/live_ecu.h"
 #include "daemon/loop/restbus.h"
 #include "daemon/core/ring.h"
 #include "daemon/out/stream.h"
@@ -49,6 +50,7 @@ struct hl_status_sources {
 	struct hl_pose_input *pose; /* the pose input's counters and the newest pose's age */
 	struct hl_restbus *restbus; /* "restbus" in the JSON, hdlamp_restbus_* in the metrics */
 	struct hl_loop_latency *loop; /* "loop" in the JSON, hdlamp_loop_* in the metrics */
+	struct hl_live_ecu *ecu; /* ecu.model: "ecu" in the JSON */
 };
 
 struct hl_status;

@@ -150,7 +150,7 @@ static const struct key keys[] = {
 	  "SocketCAN interface the restbus sends the ECU's inputs on (needs scene.scenario); "
 	  "empty = off",
 	  NULL },
-	{ "ecu", "model", STRING, F(ecu_model), 0, 0,
+	{ "ecu", "model", PATH, F(ecu_model), 0, 0,
 	  "reference | FILE.fmu: the ECU in process on the virtual bus " HL_CONFIG_VBUS
 	  " (can.interface and restbus.interface); empty = an ECU outside",
 	  NULL },
@@ -611,6 +611,12 @@ int hl_config_check_files(const struct hl_config *cfg, bool render, struct hl_co
 	if (cfg->scenario[0]) {
 		rc = check_path(cfg, F(scenario), cfg->scenario, false,
 				"a scenario file (docs/scenarios.md)", err);
+		if (rc < 0)
+			return rc;
+	}
+	if (cfg->ecu_model[0] && strcmp(cfg->ecu_model, "reference") != 0) {
+		rc = check_path(cfg, F(ecu_model), cfg->ecu_model, false,
+				"'reference' or an FMI 2.0 co-simulation FMU (docs/fmu.md)", err);
 		if (rc < 0)
 			return rc;
 	}
