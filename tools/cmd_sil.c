@@ -194,7 +194,8 @@ int hl_cmd_sil(int argc, char **argv)
 		const int mk = make_dir(o.frames);
 
 		if (mk < 0) {
-			fprintf(stderr, "hdlamp sil: --frames '%s': cannot make the directory: %s\n",
+			fprintf(stderr,
+				"hdlamp sil: --frames '%s': cannot make the directory: %s\n",
 				o.frames, strerror(-mk));
 			rc = 2;
 		}
