@@ -9,9 +9,10 @@
  * PNG; render.view hdr is refused.
  *
  * Reproducible to the bit: both stages run on the CPU whatever render.combine and
- * render.headlight say (the GLES stages are the same picture, not the same bits), the threads
- * (render.threads, 0: one per CPU) each write only their own pixels, and the PNG carries no
- * time. Two runs of the same scenario give the same bytes.
+ * render.headlight say (the GLES stages round differently from the CPU's, by machine), the
+ * threads (render.threads, 0: one per CPU) each write only their own bands of pixels (1 and 8
+ * threads give the same bytes), and the PNG carries no time. Two runs of the same scenario
+ * give the same bytes.
  *
  * Thread-safety: one thread (the SIL loop's); the renderer's helpers run inside
  * hl_sil_frames_write().
