@@ -28,6 +28,7 @@
 #include "lamp/lid.h"
 #include "lamp/model.h"
 #include "ecu/node.h"
+#include "sil/frames.h"
 #include "sil/junit.h"
 #include "sil/restbus_node.h"
 #include "world/scenario_clock.h"
@@ -70,6 +71,8 @@ struct sil {
 	struct hl_frame frame;
 	struct hl_loop_report rep;
 	bool asm_error_logged;
+	struct hl_sil_frames *frames; /* --frames; NULL: none, or a write failed (frames_failed) */
+	bool frames_failed;
 };
 
 static void log_msg(const struct sil *s, const char *fmt, const char *a, const char *b)
@@ -203,6 +206,17 @@ static void frame(struct sil *s, int64_t t)
 		hl_verdict_records_add(s->records, f);
 	}
 	hl_loop_latency_frame(s->loop, f);
+	if (s->frames) {
+		const float *in[N_LAMPS] = { s->lamp[0].i, s->lamp[1].i };
+		char err[512];
+
+		if (hl_sil_frames_write(s->frames, f->hdr.seq, w.t_s, in, err, sizeof(err)) < 0) {
+			log_msg(s, "--frames: %s; no more frames written%s", err, "");
+			hl_sil_frames_free(s->frames);
+			s->frames = NULL;
+			s->frames_failed = true;
+		}
+	}
 	s->rep.frames++;
 	s->first_fresh_ns = INT64_MAX;
 }
@@ -339,6 +353,14 @@ static int setup(struct sil *s)
 			return rc;
 		}
 	}
+	if (o->frames) {
+		rc = hl_sil_frames_new(&s->cfg, s->lids, s->sc, o->frames, &s->frames, msg,
+				       sizeof(msg));
+		if (rc < 0) {
+			log_msg(s, "--frames '%s': %s", o->frames, msg);
+			return rc;
+		}
+	}
 	if (o->trace) {
 		rc = hl_vbus_trace(s->bus, o->trace, 0);
 		if (rc < 0) {
@@ -415,6 +437,7 @@ static int setup(struct sil *s)
 
 static void teardown(struct sil *s)
 {
+	hl_sil_frames_free(s->frames);
 	hl_ecu_node_free(s->ecu);
 	hl_restbus_node_free(s->rb);
 	hl_vbus_free(s->bus);
@@ -525,7 +548,7 @@ int hl_sil_run(const struct hl_sil_options *o)
 	fill_report(s, end);
 	if (rc < 0)
 		s->rep.ecu_error = err;
-	code = rc < 0 ? 1 : hl_loop_report_passed(&s->rep) ? 0 : 3;
+	code = rc < 0 || s->frames_failed ? 1 : hl_loop_report_passed(&s->rep) ? 0 : 3;
 	if (o->report) {
 		const int wr = hl_loop_report_write(&s->rep, o->report);
 

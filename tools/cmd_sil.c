@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "commands.h"
 #include "daemon/core/config.h"
@@ -20,12 +21,14 @@ static void usage(FILE *f)
 	fputs("usage: hdlamp sil SCENARIO [--ecu reference|FILE.fmu] [--fault F]... [--report FILE]\n"
 	      "                  [--junit FILE] [--trace FILE.log|FILE.blf] [--config FILE]\n"
 	      "                  [--set SECTION.KEY=VALUE]... [--bitrate BIT/S] [--data-bitrate BIT/S]\n"
-	      "                  [--timeout-ms MS]\n"
+	      "                  [--timeout-ms MS] [--frames DIR]\n"
 	      "Runs SCENARIO in virtual time: the restbus, a virtual CAN bus, the ECU and the verdicts\n"
 	      "in one process. --ecu: the reference ECU (default) or an FMI 2.0 co-simulation FMU;\n"
 	      "--fault (reference ECU; late/stuck-counter/bad-crc for either): ignore-objects,\n"
 	      "no-failsafe, late=MS, stuck-counter, bad-crc. --config and --set: hdlampd's keys (lamps,\n"
-	      "can.dbc, restbus.*, verdict.*, scene.glare_set, loop.reaction_ms).\n"
+	      "can.dbc, restbus.*, verdict.*, scene.glare_set, loop.reaction_ms, render.* for\n"
+	      "--frames). --frames: every judged frame also rendered as hdlampd's live view shows it,\n"
+	      "to DIR/frame-NNNNNN.png (NNNNNN its seq; DIR is created if missing).\n"
 	      "Exit: 0 the verdict held, 3 it failed, 2 bad input, 1 the run could not go on.\n",
 	      f);
 }
@@ -51,6 +54,31 @@ static int parse_fault(const char *name, struct hl_sil_options *o)
 	return 0;
 }
 
+/* DIR and its missing parents, as mkdir -p. 0, or -errno for the first that fails. */
+static int make_dir(const char *dir)
+{
+	char p[4096];
+	struct stat st;
+	size_t n = strlen(dir);
+
+	if (n == 0 || n >= sizeof(p))
+		return -ENAMETOOLONG;
+	memcpy(p, dir, n + 1);
+	for (char *c = p + 1; *c; c++) {
+		if (*c != '/')
+			continue;
+		*c = '\0';
+		if (mkdir(p, 0777) < 0 && errno != EEXIST)
+			return -errno;
+		*c = '/';
+	}
+	if (mkdir(p, 0777) < 0 && errno != EEXIST)
+		return -errno;
+	if (stat(p, &st) < 0)
+		return -errno;
+	return S_ISDIR(st.st_mode) ? 0 : -ENOTDIR;
+}
+
 static int parse_uint(const char *s, unsigned long lo, unsigned long hi, unsigned long *ret)
 {
 	char *end;
@@ -73,6 +101,7 @@ int hl_cmd_sil(int argc, char **argv)
 		{ "bitrate", required_argument, NULL, 'b' },
 		{ "data-bitrate", required_argument, NULL, 'd' },
 		{ "timeout-ms", required_argument, NULL, 'T' },
+		{ "frames", required_argument, NULL, 'F' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
@@ -112,6 +141,9 @@ int hl_cmd_sil(int argc, char **argv)
 			break;
 		case 't':
 			o.trace = optarg;
+			break;
+		case 'F':
+			o.frames = optarg;
 			break;
 		case 'c':
 			break;
@@ -157,6 +189,16 @@ int hl_cmd_sil(int argc, char **argv)
 		/* no can.interface, no can.replay: the bus is the virtual one (the files the
 		 * keys name are checked as they are loaded) */
 		snprintf(cfg->scenario, sizeof(cfg->scenario), "%s", argv[optind]);
+	}
+	if (rc == 0 && o.frames) {
+		const int mk = make_dir(o.frames);
+
+		if (mk < 0) {
+			fprintf(stderr,
+				"hdlamp sil: --frames '%s': cannot make the directory: %s\n",
+				o.frames, strerror(-mk));
+			rc = 2;
+		}
 	}
 	if (rc == 0) {
 		o.cfg = cfg;
