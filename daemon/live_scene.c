@@ -66,7 +66,10 @@ static int setup(struct hl_live_scene *s, const struct hl_config *cfg, int n_lam
 	hl_live_log(
 		"scene: '%s' (%s): %d road users, %.1f s, its clock on %s; glare limits from '%s'",
 		cfg->scenario, s->sc->title, s->sc->n_actors, s->sc->duration_s,
-		cfg->replay[0] ? "the log's time" : "CLOCK_MONOTONIC", s->glare_reg->id);
+		cfg->replay[0]	  ? "the log's time" :
+		cfg->interface[0] ? "CLOCK_MONOTONIC" :
+				    "the virtual time of software in the loop",
+		s->glare_reg->id);
 	if (cfg->pose_listen[0]) {
 		rc = hl_pose_input_new(cfg->pose_listen, s->sc, stderr, &s->pose, msg, sizeof(msg));
 		if (rc < 0) {

@@ -89,12 +89,18 @@ def test_two_runs_give_the_same_bytes(hdlamp, tmp_path, scn):
         p = sil(hdlamp, scn, "--report", d / "report.json", "--junit", d / "junit.xml",
                 "--trace", d / "bus.log")
         assert p.returncode in (0, 3), p.stderr
-        p = sil(hdlamp, scn, "--trace", d / "bus.blf")
+        p = sil(hdlamp, scn, "--trace", d / "bus.blf", "--frames", d / "frames",
+                "--report", d / "report-frames.json", "--set", "render.size=96x54")
         assert p.returncode in (0, 3), p.stderr
         outs.append(d)
-    for name in ("report.json", "junit.xml", "bus.log", "bus.blf"):
+    names = sorted(os.listdir(outs[0] / "frames"))
+    assert len(names) == json.loads((outs[0] / "report.json").read_text())["frames"]["rendered"]
+    names = ["report.json", "junit.xml", "bus.log", "bus.blf"] + [f"frames/{n}" for n in names]
+    for name in names:
         a, b = (outs[0] / name).read_bytes(), (outs[1] / name).read_bytes()
         assert a and a == b, name
+    # with frames or without, the same report
+    assert (outs[0] / "report.json").read_bytes() == (outs[0] / "report-frames.json").read_bytes()
     # no wall-clock time in the report: the one timing line goes to the log only
     assert "render_ms_max\":0.000" in (outs[0] / "report.json").read_text()
 
