@@ -128,8 +128,9 @@ static int read_virtual(struct hl_can_socket *s, struct hl_can_rx *ret)
 	clock_gettime(CLOCK_REALTIME, &real);
 	clock_gettime(CLOCK_MONOTONIC, &mono);
 	memset(ret, 0, sizeof(*ret));
-	ret->frame.can_id = f.can_id & HL_DBC_EFF_FLAG ? (f.can_id & ~HL_DBC_EFF_FLAG) | CAN_EFF_FLAG :
-						       f.can_id;
+	ret->frame.can_id = f.can_id & HL_DBC_EFF_FLAG ?
+				    (f.can_id & ~HL_DBC_EFF_FLAG) | CAN_EFF_FLAG :
+				    f.can_id;
 	ret->frame.len = f.len;
 	ret->frame.flags = f.brs ? CANFD_BRS : 0;
 	memcpy(ret->frame.data, f.data, f.len);
@@ -268,8 +269,9 @@ int hl_can_socket_send(struct hl_can_socket *s, uint32_t can_id, const uint8_t *
 		return -ENETDOWN;
 	if (s->port)
 		return hl_vbus_port_send(s->port,
-					 can_id & CAN_EFF_FLAG ? (can_id & CAN_EFF_MASK) | HL_DBC_EFF_FLAG :
-								 can_id & CAN_SFF_MASK,
+					 can_id & CAN_EFF_FLAG ?
+						 (can_id & CAN_EFF_MASK) | HL_DBC_EFF_FLAG :
+						 can_id & CAN_SFF_MASK,
 					 data, len, fd);
 	if (fd && !s->st.fd_enabled)
 		return -EPROTONOSUPPORT;

@@ -99,8 +99,7 @@ static void *thread_main(void *arg)
 	return NULL;
 }
 
-int hl_vbus_rt_start(struct hl_vbus *b, const struct hl_vbus_rt_hook *hook,
-		     struct hl_vbus_rt **ret)
+int hl_vbus_rt_start(struct hl_vbus *b, const struct hl_vbus_rt_hook *hook, struct hl_vbus_rt **ret)
 {
 	struct hl_vbus_rt *rt = calloc(1, sizeof(*rt));
 	pthread_condattr_t ca;

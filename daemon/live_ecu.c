@@ -175,8 +175,9 @@ int hl_live_ecu_start(struct hl_live_ecu *le, const struct hl_config *cfg,
 		return rc;
 	}
 	hl_live_log("ecu '%s' in process on the virtual bus %s (%s): steps every %d ms%s%s",
-		    hl_ecu_node_name(le->node), HL_CONFIG_VBUS, "500 kbit/s", ECU_PERIOD_NS / 1000000,
-		    cfg->ecu_faults[0] ? ", faults " : "", cfg->ecu_faults);
+		    hl_ecu_node_name(le->node), HL_CONFIG_VBUS, "500 kbit/s",
+		    ECU_PERIOD_NS / 1000000, cfg->ecu_faults[0] ? ", faults " : "",
+		    cfg->ecu_faults);
 	return 0;
 }
 

@@ -111,8 +111,9 @@ static int setup_reference(struct hl_ecu_node *n, char *err, size_t err_size)
 			if (!n->beams[l][b])
 				return -ENOMEM;
 		}
-		rc = hl_ecu_beams_default(n->cfg.lids[l], (enum hl_side)l, n->cfg.ref->window_fraction,
-					  n->beams[l][0], n->beams[l][1]);
+		rc = hl_ecu_beams_default(n->cfg.lids[l], (enum hl_side)l,
+					  n->cfg.ref->window_fraction, n->beams[l][0],
+					  n->beams[l][1]);
 		if (rc < 0) {
 			snprintf(err, err_size, "ecu reference: the %s lamp's default beams: %s",
 				 n->cfg.lamp_names[l], strerror(-rc));
@@ -164,16 +165,18 @@ static int setup_fmu(struct hl_ecu_node *n, char *err, size_t err_size)
 			continue;
 		k = hl_ecu_io_input_index(n->io, var->name);
 		if (k < 0) {
-			snprintf(err, err_size,
-				 "'%s': input '%s' (modelDescription.xml line %d) is none of the ECU's "
-				 "inputs (docs/ecu.md, \"The ECU as an FMU\")",
-				 n->cfg.ecu, var->name, var->line);
+			snprintf(
+				err, err_size,
+				"'%s': input '%s' (modelDescription.xml line %d) is none of the ECU's "
+				"inputs (docs/ecu.md, \"The ECU as an FMU\")",
+				n->cfg.ecu, var->name, var->line);
 			return -EINVAL;
 		}
 		if (var->type != HL_FMU_REAL) {
-			snprintf(err, err_size,
-				 "'%s': input '%s' (modelDescription.xml line %d) is %s; expected Real",
-				 n->cfg.ecu, var->name, var->line, hl_fmu_type_name(var->type));
+			snprintf(
+				err, err_size,
+				"'%s': input '%s' (modelDescription.xml line %d) is %s; expected Real",
+				n->cfg.ecu, var->name, var->line, hl_fmu_type_name(var->type));
 			return -EINVAL;
 		}
 		n->in_idx[k] = v;
@@ -190,9 +193,10 @@ static int setup_fmu(struct hl_ecu_node *n, char *err, size_t err_size)
 			return -EINVAL;
 		}
 		if (var->type != HL_FMU_REAL) {
-			snprintf(err, err_size,
-				 "'%s': output '%s' (modelDescription.xml line %d) is %s; expected Real",
-				 n->cfg.ecu, name, var->line, hl_fmu_type_name(var->type));
+			snprintf(
+				err, err_size,
+				"'%s': output '%s' (modelDescription.xml line %d) is %s; expected Real",
+				n->cfg.ecu, name, var->line, hl_fmu_type_name(var->type));
 			return -EINVAL;
 		}
 		n->out_idx[k] = v;
@@ -221,8 +225,8 @@ int hl_ecu_node_new(const struct hl_ecu_node_config *cfg, struct hl_vbus *bus,
 	n->q = calloc((size_t)n->q_size, sizeof(*n->q));
 	rc = n->q ? hl_inputs_decoder_new(cfg->map, &n->dec) : -ENOMEM;
 	if (rc == 0)
-		rc = hl_ecu_io_new(cfg->map, (const struct hl_lid *const *)cfg->lids, cfg->lamp_names,
-				   cfg->n_lamps, &n->io, err, err_size);
+		rc = hl_ecu_io_new(cfg->map, (const struct hl_lid *const *)cfg->lids,
+				   cfg->lamp_names, cfg->n_lamps, &n->io, err, err_size);
 	if (rc == 0) {
 		n->n_in = hl_ecu_io_n_inputs(n->io);
 		n->n_out = hl_ecu_io_n_outputs(n->io);
@@ -233,7 +237,7 @@ int hl_ecu_node_new(const struct hl_ecu_node_config *cfg, struct hl_vbus *bus,
 	if (rc == 0) {
 		hl_ecu_io_init_inputs(n->io, n->in);
 		rc = strcmp(cfg->ecu, "reference") == 0 ? setup_reference(n, err, err_size) :
-							    setup_fmu(n, err, err_size);
+							  setup_fmu(n, err, err_size);
 	}
 	for (int l = 0; rc == 0 && l < cfg->n_lamps; l++) {
 		n->fmu_out[l] = calloc((size_t)hl_ecu_io_lamp_sources(n->io, l), sizeof(float));
@@ -320,8 +324,8 @@ static int compute(struct hl_ecu_node *n, int64_t t, char *err, size_t err_size)
 			return -EINVAL;
 		}
 		/* fmi2DoStep from the previous step's time to this one: the cycle at t */
-		return hl_fmu_step(n->fmu, (double)t / 1e9 - h, h, n->out_idx, n->out, n->n_out, err,
-				   err_size);
+		return hl_fmu_step(n->fmu, (double)t / 1e9 - h, h, n->out_idx, n->out, n->n_out,
+				   err, err_size);
 	}
 }
 
@@ -369,7 +373,8 @@ int hl_ecu_node_run(struct hl_ecu_node *n, int64_t t, char *err, size_t err_size
 			oc->n[l] = hl_assembler_encode(n->cfg.a, l, n->fmu_out[l], n->counter[l],
 						       oc->frames[l], HL_ASM_MAX_PARTS);
 			if (oc->n[l] < 0) {
-				snprintf(err, err_size, "ecu: lamp '%s': cannot encode its cycle: %s",
+				snprintf(err, err_size,
+					 "ecu: lamp '%s': cannot encode its cycle: %s",
 					 n->cfg.lamp_names[l], strerror(-oc->n[l]));
 				return oc->n[l];
 			}

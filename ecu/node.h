@@ -51,7 +51,7 @@ struct hl_ecu_node_config {
  */
 int hl_ecu_node_fault(const char *name, struct hl_ecu_node_config *cfg, struct hl_ecu_config *ref);
 /* The faults' names for an error message. */
-#define HL_ECU_NODE_FAULTS                                                                    \
+#define HL_ECU_NODE_FAULTS \
 	"ignore-objects, no-failsafe, late=MS (1..10000), stuck-counter or bad-crc"
 
 struct hl_ecu_node_counts {

@@ -311,7 +311,8 @@ static int setup(struct sil *s)
 		return rc;
 	for (int l = 0; l < N_LAMPS; l++)
 		grids[l] = hl_lid_grid(s->lids[l]);
-	rc = hl_live_verdicts_new(&s->cfg, s->a, N_LAMPS, s->lamp_names, grids, &s->verdicts, &cerr);
+	rc = hl_live_verdicts_new(&s->cfg, s->a, N_LAMPS, s->lamp_names, grids, &s->verdicts,
+				  &cerr);
 	if (rc == 0 && s->verdicts)
 		rc = hl_verdict_records_new(s->verdicts, &s->records);
 	if (rc == 0)
@@ -338,7 +339,8 @@ static int setup(struct sil *s)
 	}
 	if (s->verdicts) {
 		s->frame.n_results = hl_verdicts_n_results(s->verdicts);
-		s->frame.results = calloc((size_t)s->frame.n_results + 1, sizeof(*s->frame.results));
+		s->frame.results =
+			calloc((size_t)s->frame.n_results + 1, sizeof(*s->frame.results));
 		if (!s->frame.results)
 			return -ENOMEM;
 	}
@@ -364,7 +366,8 @@ static int setup(struct sil *s)
 	if (o->trace) {
 		rc = hl_vbus_trace(s->bus, o->trace, 0);
 		if (rc < 0) {
-			fprintf(s->o->log, "hdlamp sil: --trace '%s': %s\n", o->trace, strerror(-rc));
+			fprintf(s->o->log, "hdlamp sil: --trace '%s': %s\n", o->trace,
+				strerror(-rc));
 			return rc;
 		}
 	}
@@ -415,7 +418,8 @@ static int setup(struct sil *s)
 
 		if (!o->ref_timeouts_set) /* 3 of each input's cycle time, as hdlamp ecu */
 			for (int i = 0; i < hl_inputs_map_n_messages(s->map); i++) {
-				const struct hl_inputs_message *m = hl_inputs_map_message(s->map, i);
+				const struct hl_inputs_message *m =
+					hl_inputs_map_message(s->map, i);
 				const int64_t t = 3 * (int64_t)m->cycle_ms * 1000000;
 
 				if (!m->cycle_ms)
@@ -479,7 +483,8 @@ static int run(struct sil *s, int64_t t_end, char *err, size_t err_size)
 		if (hl_assembler_expire(s->a, t))
 			maybe_frame(s, t);
 		if (s->first_fresh_ns != INT64_MAX && t >= s->first_fresh_ns + s->coalesce_ns)
-			frame(s, t); /* the other lamp's cycle did not come within render.coalesce_ms */
+			frame(s,
+			      t); /* the other lamp's cycle did not come within render.coalesce_ms */
 		if (hl_restbus_node_next(s->rb) == t)
 			hl_restbus_node_run(s->rb, t);
 		if (hl_ecu_node_next_step(s->ecu) == t || hl_ecu_node_next_send(s->ecu) == t) {
@@ -553,7 +558,8 @@ int hl_sil_run(const struct hl_sil_options *o)
 		const int wr = hl_loop_report_write(&s->rep, o->report);
 
 		if (wr < 0) {
-			fprintf(o->log, "hdlamp sil: --report '%s': %s\n", o->report, strerror(-wr));
+			fprintf(o->log, "hdlamp sil: --report '%s': %s\n", o->report,
+				strerror(-wr));
 			code = 1;
 		}
 	}
@@ -572,7 +578,9 @@ int hl_sil_run(const struct hl_sil_options *o)
 		s->sc->duration_s / fmax((double)(wall1 - wall0) / 1e9, 1e-9));
 	fprintf(o->log, "hdlamp sil: %s, %s: %" PRIu64 " frames judged, verdict %s%s%s\n",
 		s->cfg.scenario, hl_ecu_node_name(s->ecu), s->rep.frames,
-		rc < 0 ? "not reached (the ECU failed)" : code == 0 ? "held" : "FAILED",
+		rc < 0	  ? "not reached (the ECU failed)" :
+		code == 0 ? "held" :
+			    "FAILED",
 		o->report ? "; report in " : "", o->report ? o->report : "");
 	teardown(s);
 	free(s);

@@ -35,7 +35,8 @@ struct hl_sil_options {
 	const char *report; /* NULL: none */
 	const char *junit; /* NULL: none */
 	const char *trace; /* NULL: none; .log (candump -L) or .blf */
-	const char *frames; /* NULL: none; an existing directory for the frames' PNGs (sil/frames.h) */
+	const char
+		*frames; /* NULL: none; an existing directory for the frames' PNGs (sil/frames.h) */
 	uint32_t bitrate, data_bitrate; /* the virtual bus's; 0: 500 kbit/s, 2 Mbit/s */
 	FILE *log;
 };

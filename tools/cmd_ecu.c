@@ -546,7 +546,8 @@ static int export_fmu(const struct opts *o, const struct ecu_parts *r, struct hl
 			lamps[s].builtin = s == 0 ? "hd84_left" : "hd84_right";
 		}
 	}
-	return hl_ecu_fmu_export(o->fmu_out, &o->cfg, &o->fmu_faults, o->inputs_dbc_path, r->map, lamps, 2);
+	return hl_ecu_fmu_export(o->fmu_out, &o->cfg, &o->fmu_faults, o->inputs_dbc_path, r->map,
+				 lamps, 2);
 }
 
 int hl_cmd_ecu(int argc, char **argv)

@@ -118,7 +118,8 @@ int hl_cmd_sil(int argc, char **argv)
 	hl_ecu_config_default(&o.ref);
 	/* --config first, wherever it stands, so that --set overrides it */
 	for (int i = 1; i + 1 < argc; i++)
-		if (strcmp(argv[i], "--config") == 0 && hl_config_load(cfg, argv[i + 1], &cerr) < 0) {
+		if (strcmp(argv[i], "--config") == 0 &&
+		    hl_config_load(cfg, argv[i + 1], &cerr) < 0) {
 			fprintf(stderr, "hdlamp sil: %s\n", cerr.msg);
 			free(cfg);
 			return 2;

@@ -171,9 +171,9 @@ static void beam_json(FILE *f, const float *v, int n)
 
 /* resources/ecu.json (read by ecu/fmu/reference_fmu.c), guid NULL for the hash's version. */
 static int ecu_json(const struct hl_ecu_config *cfg, const struct hl_ecu_fmu_faults *ff,
-		    const char *dbc_name,
-		    const struct hl_ecu_fmu_lamp *lamps, const char *const *lid_names, int n_lamps,
-		    const char *guid, char **ret, size_t *ret_size)
+		    const char *dbc_name, const struct hl_ecu_fmu_lamp *lamps,
+		    const char *const *lid_names, int n_lamps, const char *guid, char **ret,
+		    size_t *ret_size)
 {
 	FILE *f = open_memstream(ret, ret_size);
 
@@ -398,8 +398,8 @@ int hl_ecu_fmu_export(const char *out_path, const struct hl_ecu_config *cfg,
 	if (rc < 0)
 		goto out;
 	/* the guid hashes every entry, ecu.json without its guid and with the variables */
-	rc = ecu_json(cfg, faults, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, NULL, &json->data,
-		      &json->size);
+	rc = ecu_json(cfg, faults, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, NULL,
+		      &json->data, &json->size);
 	if (rc == 0)
 		rc = model_description(io, "", &md->data, &md->size);
 	if (rc < 0)
@@ -408,8 +408,8 @@ int hl_ecu_fmu_export(const char *out_path, const struct hl_ecu_config *cfg,
 	free(json->data);
 	free(md->data);
 	json->data = md->data = NULL;
-	rc = ecu_json(cfg, faults, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, guid, &json->data,
-		      &json->size);
+	rc = ecu_json(cfg, faults, base_name(inputs_dbc_path), lamps, lid_refs, n_lamps, guid,
+		      &json->data, &json->size);
 	if (rc == 0)
 		rc = model_description(io, guid, &md->data, &md->size);
 	if (rc == 0)

@@ -69,7 +69,8 @@ bool hl_loop_report_passed(const struct hl_loop_report *s)
 void hl_loop_report_json(const struct hl_loop_report *s, FILE *f)
 {
 	static const char *const reasons[] = {
-		"no frame rendered", "frames not judged (the hand-over ring was full)",
+		"no frame rendered",
+		"frames not judged (the hand-over ring was full)",
 		"a verdict set failed on a frame",
 		("a road user's glare over its limit after the reaction time (or, without a "
 		 "restbus, at all)"),

@@ -219,12 +219,10 @@ static int load_options(struct instance *c, json_t *root)
 	}
 	c->cfg.bend = json_is_true(bend);
 	/* the FMU's own faults, for tests of an importer (absent: none) */
-	if (json_object_get(root, "step_error") &&
-	    get_num(c, root, "step_error", 0, 1e9, &v) < 0)
+	if (json_object_get(root, "step_error") && get_num(c, root, "step_error", 0, 1e9, &v) < 0)
 		return -EINVAL;
 	c->step_error = json_object_get(root, "step_error") ? (long)v : 0;
-	if (json_object_get(root, "step_crash") &&
-	    get_num(c, root, "step_crash", 0, 1e9, &v) < 0)
+	if (json_object_get(root, "step_crash") && get_num(c, root, "step_crash", 0, 1e9, &v) < 0)
 		return -EINVAL;
 	c->step_crash = json_object_get(root, "step_crash") ? (long)v : 0;
 	if (!json_is_array(faults)) {
@@ -638,13 +636,15 @@ HL_FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h,
 	}
 	c->steps++;
 	if (c->steps == c->step_error) {
-		log_msg(c, fmi2Error, "fmi2DoStep(%g, %g): the fault step-error=%ld", t, h, c->steps);
+		log_msg(c, fmi2Error, "fmi2DoStep(%g, %g): the fault step-error=%ld", t, h,
+			c->steps);
 		return fmi2Error;
 	}
 	if (c->steps == c->step_crash) {
 		log_msg(c, fmi2OK, "fmi2DoStep(%g, %g): the fault step-crash=%ld: crashing", t, h,
 			c->steps);
-		*(volatile int *)c->null_page = 1; /* a real segmentation fault, as a bug makes one */
+		*(volatile int *)c->null_page =
+			1; /* a real segmentation fault, as a bug makes one */
 	}
 	hl_ecu_io_apply(c->io, &c->model, c->in, c->e);
 	hl_ecu_step(c->e, llround((t + h) * 1e9), &st);
