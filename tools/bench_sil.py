@@ -23,7 +23,7 @@ the loop runs in virtual time, and the real-time mode's CAN -> frame latency.
 Writes DIR/sil.json, DIR/sil_latency_ms.json and DIR/sil.png; tools/bench puts the same object
 into bench.json's "sil" key. A bench, not a test: nothing here fails on a speed.
 
-  tools/bench_sil.py [--seconds S] [--runs N] [--out DIR] [--build DIR] [--core C]
+  tools/bench_sil.py [--seconds S] [--runs N] [--out DIR] [--build DIR] [--core C] [--rt]
 """
 import argparse
 import json
@@ -140,7 +140,7 @@ def frames_speed(ctx, hdlamp, core, runs, out):
 
 # ---------------------------------------------------------------- real time
 
-def rt_pass(ctx, cmd, deadline):
+def rt_pass(ctx, cmd, deadline, rt=False):
     """One hdlampd pass: until it exits at the scenario's end or deadline (then SIGTERM).
     Returns the client's rows, the daemon's exit status line and report, wall and CPU."""
     Client, log = ctx["Client"], ctx["log"]
@@ -158,7 +158,7 @@ def rt_pass(ctx, cmd, deadline):
             if m:
                 port = int(m.group(1))
         threading.Thread(target=lambda: errlog.extend(p.stderr), daemon=True).start()
-        c = Client(port)
+        c = Client(port, rt)  # rt: its reading thread at SCHED_FIFO, below the daemon's
         c.start()
         stopped = False
         while p.poll() is None:
@@ -191,8 +191,10 @@ def rt_pass(ctx, cmd, deadline):
             "cpu_s": cpu, "stderr": errlog}
 
 
-def realtime(ctx, build, out, seconds, lamps):
-    """hdlampd --ecu reference on the demo drive, fresh passes until seconds."""
+def realtime(ctx, build, out, seconds, lamps, rt_prio=0):
+    """hdlampd --ecu reference on the demo drive, fresh passes until seconds; rt_prio: the
+    daemon's CAN and render threads at SCHED_FIFO rt_prio (sched.realtime_priority, as the
+    installed service) and the client's thread two below."""
     fields = {f: i for i, f in enumerate(ctx["FIELDS"])}
     pct = ctx["pct"]
     report = os.path.join(out, "sil_rt_report.json")
@@ -202,12 +204,13 @@ def realtime(ctx, build, out, seconds, lamps):
            "--set", f"lamps.right={lamps}/hd84_right.lid.exr",
            "--set", f"render.size={SIZE}", "--set", "render.scene=road",
            "--set", "stream.tcp=127.0.0.1:0", "--set", "http.listen=",
-           "--exit-at-end", "--report", report]
+           "--exit-at-end", "--report", report] + \
+        (["--set", f"sched.realtime_priority={rt_prio}"] if rt_prio else [])
     load0 = ctx["loadavg"]()
     t_end = time.monotonic() + seconds
     lat, passes = [], []
     while time.monotonic() < t_end - 1.0 or not passes:
-        r = rt_pass(ctx, cmd, t_end)
+        r = rt_pass(ctx, cmd, t_end, rt=bool(rt_prio))
         rows, st = r["rows"], r["status"]
         with open(report) as f:
             rep = json.load(f)
@@ -257,6 +260,7 @@ def realtime(ctx, build, out, seconds, lamps):
                 "received counts (none left out as warm-up)",
         "scenario": os.path.relpath(RT_SCENARIO, SRC), "render_size": SIZE,
         "seconds_asked": seconds, "passes": len(passes),
+        "scheduling": f"SCHED_FIFO {rt_prio}" if rt_prio else "normal",
         "seconds_daemons_ran": round(wall, 1),
         "frames_received": len(lat), "cycles": {k: sum(p["cycles"][k] for p in passes)
                                                 for k in passes[0]["cycles"]},
@@ -274,9 +278,9 @@ def realtime(ctx, build, out, seconds, lamps):
 
 # ---------------------------------------------------------------- the section
 
-def section(build, out, seconds, ctx, runs=10, core=None):
+def section(build, out, seconds, ctx, runs=10, core=None, rt_prio=0):
     """The sil section's object (bench.json "sil"). ctx: tools/bench's Client, FIELDS, pct,
-    loadavg, log, run."""
+    loadavg, log, run. rt_prio: the real-time run at SCHED_FIFO (0: normal scheduling)."""
     started = time.monotonic()
     hdlamp = os.path.join(build, "tools", "hdlamp")
     usable = sorted(os.sched_getaffinity(0))
@@ -300,7 +304,7 @@ def section(build, out, seconds, ctx, runs=10, core=None):
     lamps = os.path.join(out, "lamps")
     if not os.path.exists(os.path.join(lamps, "hd84_left.lid.exr")):
         ctx["run"]([hdlamp, "model", "--out", lamps])
-    s["realtime"] = realtime(ctx, build, out, seconds, lamps)
+    s["realtime"] = realtime(ctx, build, out, seconds, lamps, rt_prio)
     s["loadavg_end"] = ctx["loadavg"]()
     s["seconds"] = round(time.monotonic() - started, 1)
     return s
@@ -327,7 +331,8 @@ def plot(s, path, footer=""):
     ax.set_xscale("log")
     ax.set_xlabel("CAN cycle complete → frame received by the stream client (ms)")
     ax.set_ylabel("frames at or below (%)")
-    ax.set_title(f"hdlampd --ecu reference, real time, {rt['scenario']}, {SIZE}\n"
+    ax.set_title(f"hdlampd --ecu reference, real time ({rt.get('scheduling', 'normal')} "
+                 f"scheduling), {rt['scenario']}, {SIZE}\n"
                  f"{rt['seconds_daemons_ran']:.0f} s, lost {rt['lost_total']}, CPU "
                  f"{rt['cpu_percent_of_one_core']} % of a core", fontsize=10)
     ax.legend(fontsize=8, loc="lower right")
@@ -380,7 +385,7 @@ def bench_ctx():
     b = importlib.util.module_from_spec(spec)
     loader.exec_module(b)
     return {k: getattr(b, k) for k in ("Client", "FIELDS", "pct", "loadavg", "log", "run",
-                                       "machine_info")}
+                                       "machine_info", "RT_PRIO")}
 
 
 def main():
@@ -391,6 +396,9 @@ def main():
     ap.add_argument("--runs", type=int, default=10, help="hdlamp sil runs per speed figure")
     ap.add_argument("--out", default=os.path.join(SRC, "bench-out"))
     ap.add_argument("--build", default=os.path.join(SRC, "build"))
+    ap.add_argument("--rt", action="store_true",
+                    help="the real-time run with the daemon's CAN and render threads at "
+                         "SCHED_FIFO 10 (as the installed service) and the client at 8")
     ap.add_argument("--core", type=int, help="the core the speed runs are pinned to "
                                              "(default the last usable one)")
     a = ap.parse_args()
@@ -400,7 +408,8 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     ctx = bench_ctx()
     try:
-        s = section(a.build, a.out, a.seconds, ctx, a.runs, a.core)
+        s = section(a.build, a.out, a.seconds, ctx, a.runs, a.core,
+                    ctx["RT_PRIO"] if a.rt else 0)
         s["machine"] = ctx["machine_info"](a.build)
         s["command"] = " ".join(shlex.quote(x) for x in sys.argv)
         s["started"] = time.strftime("%Y-%m-%d %H:%M:%S %Z")
