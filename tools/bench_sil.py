@@ -334,7 +334,8 @@ def plot(s, path, footer=""):
     ax.set_title(f"hdlampd --ecu reference, real time ({rt.get('scheduling', 'normal')} "
                  f"scheduling), {rt['scenario']}, {SIZE}\n"
                  f"{rt['seconds_daemons_ran']:.0f} s, lost {rt['lost_total']}, CPU "
-                 f"{rt['cpu_percent_of_one_core']} % of a core", fontsize=10)
+                 f"{rt['cpu_percent_of_one_core']} % of a core, load "
+                 f"{rt['loadavg_start'][0]} → {rt['loadavg_end'][0]}", fontsize=10)
     ax.legend(fontsize=8, loc="lower right")
     ax.grid(True, which="both", alpha=0.3)
 
@@ -350,20 +351,21 @@ def plot(s, path, footer=""):
     bx.bar(xs, med, color=[b[2] for b in bars],
            yerr=[[b[1]["median"] - b[1]["min"] for b in bars],
                  [b[1]["max"] - b[1]["median"] for b in bars]], capsize=3)
-    for x, v in zip(xs, med):
-        bx.text(x, v * 1.12, f"{v:.3g}×", ha="center", fontsize=8)
+    for x, b in zip(xs, bars):
+        bx.text(x, b[1]["max"] * 1.15, f"{b[1]['median']:.3g}×", ha="center", fontsize=8)
     bx.axhline(s["goal_x_real_time"], color="black", lw=1,
                label=f"goal {s['goal_x_real_time']:.0f}× (loop, no frames)")
     bx.axhline(1.0, color="grey", lw=0.8, ls=":", label="real time")
     bx.bar([0], [0], color="#4477aa", label="the loop (its log line)")
     bx.bar([0], [0], color="#999933", label="the process (start-up included)")
     bx.set_yscale("log")
+    bx.set_ylim(top=max(b[1]["max"] for b in bars) * 30)  # room for the legend above the bars
     bx.set_xticks(list(xs), [b[0] for b in bars], fontsize=7.5)
     bx.set_ylabel("× real time (median, bars min–max)")
     ref = s["speed_reference"]
     bx.set_title(f"hdlamp sil, {os.path.basename(ref['scenario'])} "
                  f"({ref['scenario_s']} s), one core", fontsize=10)
-    bx.legend(fontsize=7.5, loc="center right")
+    bx.legend(fontsize=7, loc="upper right", ncol=2)
     fr = s.get("speed_frames") or {}
     note = (f"frames skipped: {fr['skipped']}" if "skipped" in fr else
             f"frames: {fr['ms_per_frame']['median']} ms per frame (loop), "
@@ -399,6 +401,8 @@ def main():
     ap.add_argument("--rt", action="store_true",
                     help="the real-time run with the daemon's CAN and render threads at "
                          "SCHED_FIFO 10 (as the installed service) and the client at 8")
+    ap.add_argument("--replot", action="store_true",
+                    help="measure nothing: draw DIR/sil.png again from DIR/sil.json")
     ap.add_argument("--core", type=int, help="the core the speed runs are pinned to "
                                              "(default the last usable one)")
     a = ap.parse_args()
@@ -406,6 +410,12 @@ def main():
         print("bench_sil: --seconds > 0 and --runs >= 1 expected", file=sys.stderr)
         return 2
     os.makedirs(a.out, exist_ok=True)
+    if a.replot:
+        with open(os.path.join(a.out, "sil.json")) as f:
+            s = json.load(f)
+        draw(s, a.out)
+        print(summary(s))
+        return 0
     ctx = bench_ctx()
     try:
         s = section(a.build, a.out, a.seconds, ctx, a.runs, a.core,
@@ -415,15 +425,19 @@ def main():
         s["started"] = time.strftime("%Y-%m-%d %H:%M:%S %Z")
         with open(os.path.join(a.out, "sil.json"), "w") as f:
             json.dump(s, f, indent=1)
-        m = s["machine"]
-        plot(s, os.path.join(a.out, "sil.png"),
-             f"{m['cpu_model']}, {m['cpus_usable']} cores; {s['started']}; {s['source']}")
+        draw(s, a.out)
     except (RuntimeError, OSError, subprocess.TimeoutExpired, ValueError, KeyError) as e:
         print(f"bench_sil: failed: {e!r}", file=sys.stderr)
         return 1
     print(summary(s))
     print(os.path.join(a.out, "sil.json") + ", " + os.path.join(a.out, "sil.png"))
     return 0
+
+
+def draw(s, out):
+    m = s["machine"]
+    plot(s, os.path.join(out, "sil.png"),
+         f"{m['cpu_model']}, {m['cpus_usable']} cores; {s['started']}; source {s['source']}")
 
 
 def summary(s):
