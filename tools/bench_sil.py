@@ -222,6 +222,7 @@ def realtime(ctx, build, out, seconds, lamps, rt_prio=0):
         seqs = [h[fields["seq"]] for _, h in rows]
         passes.append({
             "exit": r["exit"], "end": rep.get("end"), "verdict": rep.get("verdict"),
+            "failed_because": rep.get("failed_because"),
             "wall_s": round(r["wall_s"], 2), "cpu_s": round(r["cpu_s"], 2),
             "frames_received": len(rows),
             "frames_published": st["frames"]["published"],
