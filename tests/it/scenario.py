@@ -98,7 +98,7 @@ def check_failsafe_frames(hs):
     return gaps
 
 
-def quick_singles(hs, coalesce_ms=2):
+def quick_singles(hs, coalesce_ms=5):
     """Frames (after a normal one) that bring one lamp's next cycle only, although the render
     thread did not wait render.coalesce_ms for the other lamp (the daemon's own timestamps:
     from the snapshot's push, t_cycle_done_ns, to render start). The daemon renders a lone lamp

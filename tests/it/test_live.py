@@ -138,7 +138,7 @@ def both_and_single(hs):
 
 
 def test_one_frame_per_ecu_cycle_shows_both_lamps(hdlamp, lamps, tmp_path):
-    # render.coalesce_ms (default 2): the scenario's ECU sends the lamps' last pages 0.4 ms
+    # render.coalesce_ms (default 5): the scenario's ECU sends the lamps' last pages 0.4 ms
     # apart, so a frame waits for the second lamp and shows the whole ECU cycle. Judged by the
     # daemon's timestamps, not by how many frames a busy machine managed to coalesce: a frame
     # with one lamp's cycle only must have waited the whole window first, except where the
