@@ -6,7 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
-int hl_share_dir(const char *name, char *buf, size_t size)
+int hl_exe_relative(const char *rel, char *buf, size_t size)
 {
 	char exe[4096];
 	const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
@@ -19,7 +19,16 @@ int hl_share_dir(const char *name, char *buf, size_t size)
 	if (!slash)
 		return -ENOENT;
 	*slash = '\0'; /* the executable's directory */
-	if ((size_t)snprintf(buf, size, "%s/../share/hdlamp/%s", exe, name) >= size)
+	if ((size_t)snprintf(buf, size, "%s/%s", exe, rel) >= size)
 		return -ENAMETOOLONG;
 	return 0;
+}
+
+int hl_share_dir(const char *name, char *buf, size_t size)
+{
+	char rel[4096];
+
+	if ((size_t)snprintf(rel, sizeof(rel), "../share/hdlamp/%s", name) >= sizeof(rel))
+		return -ENAMETOOLONG;
+	return hl_exe_relative(rel, buf, size);
 }

@@ -14,5 +14,7 @@
 
 /* "<the executable's directory>/../share/hdlamp/NAME" into buf. 0, -ENAMETOOLONG, -errno. */
 int hl_share_dir(const char *name, char *buf, size_t size);
+/* "<the executable's directory>/REL" into buf (the FMU's shared object: ../lib/hdlamp/...). */
+int hl_exe_relative(const char *rel, char *buf, size_t size);
 
 #endif

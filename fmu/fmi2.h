@@ -27,12 +27,14 @@
 /* 2.1.2, platform "default" */
 typedef void *fmi2Component; /* an instance of the FMU */
 typedef void *fmi2ComponentEnvironment; /* the importer's pointer, handed back to the logger */
+typedef void *fmi2FMUstate; /* an FMU's saved state (an exporter must declare its functions) */
 typedef unsigned int fmi2ValueReference;
 typedef double fmi2Real;
 typedef int fmi2Integer;
 typedef int fmi2Boolean;
 typedef char fmi2Char;
 typedef const fmi2Char *fmi2String;
+typedef char fmi2Byte; /* a serialized FMU state's bytes */
 
 #define fmi2True 1
 #define fmi2False 0
@@ -55,6 +57,14 @@ typedef enum {
 	fmi2ModelExchange,
 	fmi2CoSimulation,
 } fmi2Type;
+
+/* 4.2.3: what fmi2Get*Status asks of an asynchronous step */
+typedef enum {
+	fmi2DoStepStatus,
+	fmi2PendingStatus,
+	fmi2LastSuccessfulTime,
+	fmi2Terminated,
+} fmi2StatusKind;
 
 /* 2.1.5: message may hold the escapes #<type><valueReference># (we pass it on as it is). */
 typedef void fmi2CallbackLogger_fn(fmi2ComponentEnvironment env, fmi2String instanceName,

@@ -1,49 +1,25 @@
 /* SPDX-License-Identifier: MIT */
 /* A run's verdicts as JUnit XML: see sil/junit.h. */
 #include "sil/junit.h"
+#include "base/file_replace.h"
+#include "base/xml_write.h"
 
-#include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
-
-/* Text for an XML attribute or element. */
-static void xml_text(FILE *f, const char *s)
-{
-	for (; *s; s++) {
-		switch (*s) {
-		case '&':
-			fputs("&amp;", f);
-			break;
-		case '<':
-			fputs("&lt;", f);
-			break;
-		case '>':
-			fputs("&gt;", f);
-			break;
-		case '"':
-			fputs("&quot;", f);
-			break;
-		default:
-			if ((unsigned char)*s >= 0x20 || *s == '\n' || *s == '\t')
-				fputc(*s, f);
-		}
-	}
-}
 
 static void testcase(FILE *f, const char *classname, const char *name, const char *failure)
 {
 	fputs("    <testcase classname=\"", f);
-	xml_text(f, classname);
+	hl_xml_write_text(f, classname);
 	fputs("\" name=\"", f);
-	xml_text(f, name);
+	hl_xml_write_text(f, name);
 	if (!failure) {
 		fputs("\"/>\n", f);
 		return;
 	}
 	fputs("\">\n      <failure message=\"", f);
-	xml_text(f, failure);
+	hl_xml_write_text(f, failure);
 	fputs("\"/>\n    </testcase>\n", f);
 }
 
@@ -102,34 +78,31 @@ static void write_cases(const struct hl_loop_report *r, const char *ecu_error, F
 	*ret_failures = failures;
 }
 
-int hl_sil_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path)
-{
-	char tmp[4200];
-	int tests, failures, rc = 0;
-	FILE *f;
+struct junit {
+	const struct hl_loop_report *r;
+	const char *ecu_error;
+};
 
-	if (snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= (int)sizeof(tmp))
-		return -ENAMETOOLONG;
-	f = fopen(tmp, "we");
-	if (!f)
-		return -errno;
-	write_cases(r, ecu_error, NULL, &tests, &failures, true);
+static void write_file(void *ctx, FILE *f)
+{
+	const struct junit *j = ctx;
+	int tests, failures;
+
+	write_cases(j->r, j->ecu_error, NULL, &tests, &failures, true);
 	fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"", f);
-	xml_text(f, r->scenario_path);
+	hl_xml_write_text(f, j->r->scenario_path);
 	fprintf(f, "\" tests=\"%d\" failures=\"%d\" errors=\"0\" skipped=\"0\">\n", tests,
 		failures);
 	fputs("    <properties>\n      <property name=\"ecu\" value=\"", f);
-	xml_text(f, r->ecu ? r->ecu : "");
+	hl_xml_write_text(f, j->r->ecu ? j->r->ecu : "");
 	fputs("\"/>\n    </properties>\n", f);
-	write_cases(r, ecu_error, f, &tests, &failures, false);
+	write_cases(j->r, j->ecu_error, f, &tests, &failures, false);
 	fputs("  </testsuite>\n</testsuites>\n", f);
-	if (fflush(f) != 0 || ferror(f))
-		rc = -EIO;
-	if (fclose(f) != 0 && rc == 0)
-		rc = -errno;
-	if (rc == 0 && rename(tmp, path) < 0)
-		rc = -errno;
-	if (rc < 0)
-		unlink(tmp);
-	return rc;
+}
+
+int hl_sil_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path)
+{
+	struct junit j = { r, ecu_error };
+
+	return hl_file_replace(path, write_file, &j);
 }

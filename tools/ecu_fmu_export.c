@@ -21,6 +21,8 @@
 #include <zip.h>
 
 #include "base/json_write.h"
+#include "base/share_dir.h"
+#include "base/xml_write.h"
 #include "ecu/io.h"
 
 #define MODEL_IDENTIFIER "hdlamp_ecu"
@@ -102,21 +104,7 @@ static int add_file(struct pack *p, const char *name, const char *path)
 /* The shared object: ../<libdir>/hdlamp beside the executable's directory (build and install). */
 static int so_path(char *buf, size_t size)
 {
-	char exe[4096];
-	const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-	char *slash;
-
-	if (n < 0)
-		return -errno;
-	exe[n] = '\0';
-	slash = strrchr(exe, '/');
-	if (!slash)
-		return -ENOENT;
-	*slash = '\0';
-	if ((size_t)snprintf(buf, size, "%s/%s/%s.so", exe, HL_ECU_FMU_RELDIR, MODEL_IDENTIFIER) >=
-	    size)
-		return -ENAMETOOLONG;
-	return 0;
+	return hl_exe_relative(HL_ECU_FMU_RELDIR "/" MODEL_IDENTIFIER ".so", buf, size);
 }
 
 /* FNV-1a, 64 bits, from basis h. */
@@ -219,28 +207,6 @@ static int ecu_json(const struct hl_ecu_config *cfg, const struct hl_ecu_fmu_fau
 	return fclose(f) == 0 ? 0 : -ENOMEM;
 }
 
-static void xml_str(FILE *f, const char *s)
-{
-	for (; *s; s++) {
-		switch (*s) {
-		case '&':
-			fputs("&amp;", f);
-			break;
-		case '<':
-			fputs("&lt;", f);
-			break;
-		case '>':
-			fputs("&gt;", f);
-			break;
-		case '"':
-			fputs("&quot;", f);
-			break;
-		default:
-			fputc(*s, f);
-		}
-	}
-}
-
 /*
  * modelDescription.xml. Inputs and outputs are variability "discrete": they change only at
  * communication points, and an importer must hold an input between them, not interpolate it.
@@ -278,7 +244,7 @@ static int model_description(const struct hl_ecu_io *io, const char *guid, char 
 		guid, HL_VERSION);
 	for (int i = 0; i < n_in; i++) {
 		fprintf(f, "    <ScalarVariable name=\"");
-		xml_str(f, hl_ecu_io_input_name(io, i));
+		hl_xml_write_text(f, hl_ecu_io_input_name(io, i));
 		fprintf(f,
 			"\" valueReference=\"%d\" causality=\"input\" variability=\"discrete\">"
 			"<Real start=\"%.17g\"/></ScalarVariable>\n",
@@ -286,7 +252,7 @@ static int model_description(const struct hl_ecu_io *io, const char *guid, char 
 	}
 	for (int i = 0; i < n_out; i++) {
 		fprintf(f, "    <ScalarVariable name=\"");
-		xml_str(f, hl_ecu_io_output_name(io, i));
+		hl_xml_write_text(f, hl_ecu_io_output_name(io, i));
 		fprintf(f,
 			"\" valueReference=\"%d\" causality=\"output\" variability=\"discrete\">"
 			"<Real/></ScalarVariable>\n",

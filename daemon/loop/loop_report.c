@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The closed-loop run's report: see daemon/loop/loop_report.h. */
 #include "daemon/loop/loop_report.h"
+#include "base/file_replace.h"
 #include "base/json_write.h"
 
 #include <errno.h>
@@ -151,25 +152,12 @@ void hl_loop_report_json(const struct hl_loop_report *s, FILE *f)
 	fputs("]}\n", f);
 }
 
-int hl_loop_report_write(const struct hl_loop_report *s, const char *path)
+static void write_json(void *ctx, FILE *f)
 {
-	char tmp[4200];
-	FILE *f;
-	int rc = 0;
+	hl_loop_report_json(ctx, f);
+}
 
-	if (snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= (int)sizeof(tmp))
-		return -ENAMETOOLONG;
-	f = fopen(tmp, "we");
-	if (!f)
-		return -errno;
-	hl_loop_report_json(s, f);
-	if (fflush(f) != 0 || ferror(f))
-		rc = -EIO;
-	if (fclose(f) != 0 && rc == 0)
-		rc = -errno;
-	if (rc == 0 && rename(tmp, path) < 0)
-		rc = -errno;
-	if (rc < 0)
-		unlink(tmp);
-	return rc;
+int hl_loop_report_write(const struct hl_loop_report *r, const char *path)
+{
+	return hl_file_replace(path, write_json, (void *)r);
 }
