@@ -23,7 +23,9 @@ def ecu(*args):
     (["--can", "vcan0", "--fmu", "x.fmu"], "hdlamp ecu: --can and --fmu exclude each other"),
     (["--can", "vcan0", "--fault", "late=0"],
      "hdlamp ecu: --fault 'late=0': expected ignore-objects, no-failsafe, late=MS (1..10000), "
-     "stuck-counter or bad-crc"),
+     "stuck-counter, bad-crc, or with --fmu step-error=N or step-crash=N"),
+    (["--can", "vcan0", "--fault", "step-crash=5"],
+     "hdlamp ecu: --fault step-error and step-crash are the FMU's: they need --fmu"),
     (["--can", "vcan0", "--fault", "sleepy"], "hdlamp ecu: --fault 'sleepy': expected"),
     (["--can", "vcan0", "--camera", "1,2"], "hdlamp ecu: --camera '1,2': expected X,Y,Z[,YAW,PITCH]"),
     (["--can", "vcan0", "--lamp-left", "0,0.7,0.65,0"], "hdlamp ecu: --lamp-left '0,0.7,0.65,0': expected"),
