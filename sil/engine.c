@@ -206,6 +206,12 @@ static void frame(struct sil *s, int64_t t)
 		hl_verdict_records_add(s->records, f);
 	}
 	hl_loop_latency_frame(s->loop, f);
+	if (s->o->on_frame) {
+		const struct hl_lid_grid *grids[N_LAMPS] = { hl_lid_grid(s->lids[0]),
+							     hl_lid_grid(s->lids[1]) };
+
+		s->o->on_frame(s->o->on_frame_ctx, s->sc, &w, grids, dist);
+	}
 	if (s->frames) {
 		const float *in[N_LAMPS] = { s->lamp[0].i, s->lamp[1].i };
 		char err[512];
@@ -571,6 +577,8 @@ int hl_sil_run(const struct hl_sil_options *o)
 			code = 1;
 		}
 	}
+	if (o->quiet)
+		goto out;
 	fprintf(o->log,
 		"hdlamp sil: the loop ran %.3f s of the scenario in %.3f s (%.0f x real time; the "
 		"setup before it not counted)\n",
@@ -582,6 +590,7 @@ int hl_sil_run(const struct hl_sil_options *o)
 		code == 0 ? "held" :
 			    "FAILED",
 		o->report ? "; report in " : "", o->report ? o->report : "");
+out:
 	teardown(s);
 	free(s);
 	return code;

@@ -25,6 +25,19 @@
 #include "daemon/core/config.h"
 #include "ecu/lighting.h"
 
+struct hl_lid_grid;
+struct hl_scenario;
+struct hl_world_state;
+
+/*
+ * Called for every judged frame (the suites' photometers, docs/lab.md): the scenario, the world
+ * at the frame's scenario time, and each lamp's distribution (cd) on its grid as the frame lit
+ * it. On the loop's thread; what it is given lives until it returns.
+ */
+typedef void (*hl_sil_frame_fn)(void *ctx, const struct hl_scenario *sc,
+				const struct hl_world_state *w,
+				const struct hl_lid_grid *const grids[2], const float *const dist[2]);
+
 struct hl_sil_options {
 	const struct hl_config *cfg; /* cfg->scenario, lamps, dbc, restbus.*, verdict.*, loop.* */
 	const char *ecu; /* "reference" or an FMU's path */
@@ -39,6 +52,9 @@ struct hl_sil_options {
 		*frames; /* NULL: none; an existing directory for the frames' PNGs (sil/frames.h) */
 	uint32_t bitrate, data_bitrate; /* the virtual bus's; 0: 500 kbit/s, 2 Mbit/s */
 	FILE *log;
+	hl_sil_frame_fn on_frame; /* NULL: none */
+	void *on_frame_ctx;
+	bool quiet; /* no speed and verdict lines on log (a suite logs its own) */
 };
 
 /*

@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "commands.h"
+#include "base/make_dirs.h"
 #include "daemon/core/config.h"
 #include "ecu/node.h"
 #include "sil/sil.h"
@@ -52,31 +52,6 @@ static int parse_fault(const char *name, struct hl_sil_options *o)
 	o->stuck_counter = nc.stuck_counter;
 	o->bad_crc = nc.bad_crc;
 	return 0;
-}
-
-/* DIR and its missing parents, as mkdir -p. 0, or -errno for the first that fails. */
-static int make_dir(const char *dir)
-{
-	char p[4096];
-	struct stat st;
-	size_t n = strlen(dir);
-
-	if (n == 0 || n >= sizeof(p))
-		return -ENAMETOOLONG;
-	memcpy(p, dir, n + 1);
-	for (char *c = p + 1; *c; c++) {
-		if (*c != '/')
-			continue;
-		*c = '\0';
-		if (mkdir(p, 0777) < 0 && errno != EEXIST)
-			return -errno;
-		*c = '/';
-	}
-	if (mkdir(p, 0777) < 0 && errno != EEXIST)
-		return -errno;
-	if (stat(p, &st) < 0)
-		return -errno;
-	return S_ISDIR(st.st_mode) ? 0 : -ENOTDIR;
 }
 
 static int parse_uint(const char *s, unsigned long lo, unsigned long hi, unsigned long *ret)
@@ -192,7 +167,7 @@ int hl_cmd_sil(int argc, char **argv)
 		snprintf(cfg->scenario, sizeof(cfg->scenario), "%s", argv[optind]);
 	}
 	if (rc == 0 && o.frames) {
-		const int mk = make_dir(o.frames);
+		const int mk = hl_make_dirs(o.frames);
 
 		if (mk < 0) {
 			fprintf(stderr,

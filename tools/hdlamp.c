@@ -21,6 +21,7 @@ static const struct command commands[] = {
 	{ "glare", hl_cmd_glare, "the light at road users' eyes in a scenario and its limit" },
 	{ "ecu", hl_cmd_ecu, "the reference virtual headlamp ECU on a CAN interface" },
 	{ "sil", hl_cmd_sil, "the loop in virtual time: restbus, virtual bus, ECU, verdicts" },
+	{ "suite", hl_cmd_suite, "the ADB lab's test suites: FMVSS 108 ADB, IIHS, R149 ADB" },
 };
 
 static void usage(FILE *f)

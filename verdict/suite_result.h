@@ -35,6 +35,8 @@ struct hl_suite_case {
 	bool judged, pass; /* judged: a limit and at least one sample; pass is true when !judged */
 	bool no_samples; /* judged as an error: the bin has a limit but was never reached */
 	char source[HL_SUITE_TEXT_MAX]; /* the limit's source */
+	int bin_index, photometer_index; /* the suite's bin[] and photometer[]; -1: none */
+	double worst_margin; /* while judging: the smallest margin of any sample (R149) */
 };
 
 /* Illuminance against range at one photometer (or a figure against distance). */

@@ -1,0 +1,359 @@
+/* SPDX-License-Identifier: MIT */
+/* hdlamp suite run: see tools/suite_run.h. */
+#include "tools/suite_run.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/make_dirs.h"
+#include "lamp/combine.h"
+#include "lamp/lid.h"
+#include "lamp/model.h"
+#include "tools/preset_arg.h"
+#include "verdict/regulation.h"
+#include "verdict/suite_measure.h"
+#include "verdict/suite_report.h"
+#include "verdict/suite_scenario.h"
+#include "world/world.h"
+
+#define FRAME_S 0.02 /* a held preset is measured at the ECU's 50 Hz */
+
+struct run {
+	const struct hl_suite_run_options *o;
+	struct hl_regulation *reg; /* r149-adb's glare set */
+	struct hl_lid *lids[2]; /* a held preset's lamps */
+	float *dense[2];
+	struct hl_suite_result res;
+};
+
+static void say(const struct run *r, const char *fmt, const char *a, const char *b)
+{
+	fprintf(r->o->log, "hdlamp suite: ");
+	fprintf(r->o->log, fmt, a, b);
+	fputc('\n', r->o->log);
+}
+
+static int write_text(const char *path, const char *text)
+{
+	FILE *f = fopen(path, "we");
+	int rc = 0;
+
+	if (!f)
+		return -errno;
+	if (fputs(text, f) == EOF)
+		rc = -EIO;
+	if (fclose(f) != 0 && rc == 0)
+		rc = -errno;
+	return rc;
+}
+
+/* The lamps' distributions under the held preset, once. 0 or -errno (logged). */
+static int load_preset(struct run *r)
+{
+	const struct hl_config *cfg = r->o->cfg;
+	const char *paths[2] = { cfg->lid_left, cfg->lid_right };
+	struct hl_preset *p = NULL;
+	float *cur = NULL;
+	int rc;
+
+	for (int l = 0; l < 2; l++) {
+		struct hl_lid_error err;
+
+		if (!paths[l][0]) {
+			rc = hl_model_hd84((enum hl_side)l, &r->lids[l]);
+		} else {
+			rc = hl_lid_read(paths[l], &r->lids[l], &err);
+			if (rc < 0)
+				say(r, "%s%s", err.msg, "");
+		}
+		if (rc < 0)
+			return rc;
+	}
+	rc = hl_tool_preset_load("suite", r->o->preset, r->lids, 2, &p);
+	if (rc < 0)
+		return rc;
+	cur = malloc(sizeof(float) * (size_t)p->n_sources);
+	for (int l = 0; l < 2 && cur; l++) {
+		const struct hl_lid_grid *g = hl_lid_grid(r->lids[l]);
+
+		r->dense[l] = malloc(sizeof(float) * (size_t)g->width * (size_t)g->height);
+		if (!r->dense[l])
+			break;
+		hl_preset_intensities(p, l, cur);
+		hl_combine_sparse(r->lids[l], cur, r->dense[l]);
+	}
+	rc = cur && r->dense[0] && r->dense[1] ? 0 : -ENOMEM;
+	free(cur);
+	hl_preset_free(p);
+	return rc;
+}
+
+static void on_frame(void *ctx, const struct hl_scenario *sc, const struct hl_world_state *w,
+		     const struct hl_lid_grid *const grids[2], const float *const dist[2])
+{
+	hl_suite_measure_frame(ctx, sc, w, grids, dist);
+}
+
+/* The held preset through the scenario at 50 Hz (IIHS: its first instant). */
+static void run_preset(struct run *r, const struct hl_scenario *sc, struct hl_suite_measure *m)
+{
+	const struct hl_lid_grid *grids[2] = { hl_lid_grid(r->lids[0]), hl_lid_grid(r->lids[1]) };
+	const float *dist[2] = { r->dense[0], r->dense[1] };
+	const long n = r->o->suite->procedure == HL_SUITE_IIHS ?
+			       1 :
+			       (long)floor(sc->duration_s / FRAME_S + 1e-9) + 1;
+
+	for (long k = 0; k < n; k++) {
+		struct hl_world_state w;
+
+		hl_world_at(sc, (double)k * FRAME_S, &w);
+		hl_suite_measure_frame(m, sc, &w, grids, dist);
+	}
+}
+
+/* One variant: its scenario written, run, measured, judged, plotted. 0, or -errno to stop. */
+static int run_variant(struct run *r, const struct hl_suite_scenario *d, int k,
+		       struct hl_suite_variant *v)
+{
+	const struct hl_suite_run_options *o = r->o;
+	struct hl_suite_measure *m = NULL;
+	char path[4096], msg[1024] = "", *text = NULL;
+	struct hl_scenario *sc = NULL;
+	struct hl_json_error jerr;
+	int rc;
+
+	hl_suite_variant_params(d, o->samples, k, &v->speed_mph, &v->radius_m, v->id,
+				sizeof(v->id));
+	snprintf(v->scenario_id, sizeof(v->scenario_id), "%s", d->id);
+	v->road = d->road;
+	v->range_m[0] = d->range_m[0];
+	v->range_m[1] = d->range_m[1];
+	rc = hl_suite_variant_scenario(o->suite, d, v->speed_mph, v->radius_m, &text, msg,
+				       sizeof(msg));
+	if (rc < 0) {
+		say(r, "%s: %s", v->id, msg);
+		return rc == -ENOMEM ? rc : -EINVAL;
+	}
+	snprintf(v->scenario_file, sizeof(v->scenario_file), "scenarios/%s.json", v->id);
+	snprintf(v->plot_file, sizeof(v->plot_file), "plots/%s.svg", v->id);
+	snprintf(path, sizeof(path), "%s/%s", o->out, v->scenario_file);
+	rc = write_text(path, text);
+	free(text);
+	if (rc < 0) {
+		say(r, "'%s': %s", path, strerror(-rc));
+		return rc;
+	}
+	rc = hl_scenario_read(path, &sc, &jerr);
+	if (rc < 0) {
+		say(r, "%s%s", hl_json_error_format(&jerr, msg, sizeof(msg)), "");
+		return rc;
+	}
+	snprintf(v->title, sizeof(v->title), "%s", sc->title);
+	rc = hl_suite_measure_new(o->suite, d, r->reg, v, &m);
+	if (rc < 0) {
+		hl_scenario_free(sc);
+		return rc;
+	}
+	if (o->preset) {
+		run_preset(r, sc, m);
+	} else {
+		struct hl_config *cfg = malloc(sizeof(*cfg));
+		struct hl_sil_options so = o->sil;
+		char trace[4096];
+
+		if (!cfg) {
+			rc = -ENOMEM;
+			goto out;
+		}
+		*cfg = *o->cfg;
+		snprintf(cfg->scenario, sizeof(cfg->scenario), "%s", path);
+		cfg->n_verdict_sets = 0; /* the suite judges; the sets' verdicts are not asked */
+		snprintf(v->trace_file, sizeof(v->trace_file), "traces/%s.log", v->id);
+		snprintf(trace, sizeof(trace), "%s/%s", o->out, v->trace_file);
+		so.cfg = cfg;
+		so.trace = trace;
+		so.report = so.junit = so.frames = NULL;
+		so.on_frame = on_frame;
+		so.on_frame_ctx = m;
+		so.quiet = true;
+		so.log = o->log;
+		v->exit_code = hl_sil_run(&so);
+		free(cfg);
+		if (v->exit_code == 2) {
+			rc = -EINVAL;
+			goto out;
+		}
+		if (v->exit_code == 1)
+			snprintf(v->error, sizeof(v->error),
+				 "the run could not go on (the ECU failed, or a file could not "
+				 "be written): see the log");
+		else
+			v->exit_code = 0; /* the loop's own verdict is not the suite's */
+	}
+	rc = hl_suite_measure_finish(m);
+	if (rc < 0)
+		goto out;
+	snprintf(path, sizeof(path), "%s/%s", o->out, v->plot_file);
+	{
+		FILE *f = fopen(path, "we");
+
+		if (!f || hl_suite_plot_svg(&r->res, v, f) < 0)
+			rc = -EIO;
+		if (f && fclose(f) != 0)
+			rc = -EIO;
+		if (rc < 0)
+			say(r, "'%s': cannot write the plot%s", path, "");
+	}
+out:
+	hl_suite_measure_free(m);
+	hl_scenario_free(sc);
+	return rc;
+}
+
+static int prepare(struct run *r)
+{
+	const struct hl_suite_run_options *o = r->o;
+	static const char *const sub[] = { "", "/scenarios", "/plots", "/traces" };
+	char p[4096];
+	int rc;
+
+	for (size_t i = 0; i < sizeof(sub) / sizeof(sub[0]); i++) {
+		if (!o->preset || strcmp(sub[i], "/traces")) {
+			snprintf(p, sizeof(p), "%s%s", o->out, sub[i]);
+			rc = hl_make_dirs(p);
+			if (rc < 0) {
+				say(r, "--out '%s': cannot make the directory: %s", p,
+				    strerror(-rc));
+				return rc;
+			}
+		}
+	}
+	if (o->suite->procedure == HL_SUITE_R149_ADB) {
+		struct hl_regulation_error err;
+		const char *dir = o->cfg->regulations;
+		char def[4096];
+
+		if (!dir[0]) {
+			if (hl_regulation_default_dir(def, sizeof(def)) < 0) {
+				say(r, "cannot find the shipped regulation sets%s%s", "", "");
+				return -ENOENT;
+			}
+			dir = def;
+		}
+		rc = hl_regulation_load(dir, o->suite->glare_set, &r->reg, &err);
+		if (rc < 0) {
+			say(r, "%s%s", err.msg, "");
+			return rc;
+		}
+	}
+	return o->preset ? load_preset(r) : 0;
+}
+
+static bool selected(const struct hl_suite_run_options *o, const struct hl_suite_scenario *d,
+		     const char *variant_id)
+{
+	return !o->only || !strcmp(o->only, d->id) || (variant_id && !strcmp(o->only, variant_id));
+}
+
+int hl_suite_run(const struct hl_suite_run_options *o)
+{
+	const struct hl_suite *s = o->suite;
+	struct run r = { .o = o };
+	char path[4096];
+	int rc = 0, code, total = 0;
+
+	r.res.suite = s;
+	if (o->preset) {
+		snprintf(r.res.preset, sizeof(r.res.preset), "%s", o->preset);
+	} else {
+		snprintf(r.res.ecu, sizeof(r.res.ecu), "%s", o->sil.ecu);
+		snprintf(r.res.fault, sizeof(r.res.fault), "%s", o->fault_text ? o->fault_text : "");
+	}
+	rc = prepare(&r);
+	for (int i = 0; rc == 0 && i < s->n_scenarios; i++) {
+		const struct hl_suite_scenario *d = &s->scenario[i];
+
+		for (int k = 0; k < hl_suite_variant_count(d, o->samples); k++) {
+			double sp, rad;
+			char id[96];
+
+			hl_suite_variant_params(d, o->samples, k, &sp, &rad, id, sizeof(id));
+			total += selected(o, d, id);
+		}
+	}
+	if (rc == 0 && total == 0) {
+		say(&r, "--only '%s': no scenario or variant of %s has that id",
+		    o->only ? o->only : "", s->name);
+		rc = -EINVAL;
+	}
+	if (rc == 0) {
+		r.res.v = calloc((size_t)total, sizeof(*r.res.v));
+		if (!r.res.v)
+			rc = -ENOMEM;
+	}
+	for (int i = 0; rc == 0 && i < s->n_scenarios; i++) {
+		const struct hl_suite_scenario *d = &s->scenario[i];
+
+		for (int k = 0; rc == 0 && k < hl_suite_variant_count(d, o->samples); k++) {
+			struct hl_suite_variant *v = &r.res.v[r.res.n_variants];
+			double sp, rad;
+			char id[96];
+
+			hl_suite_variant_params(d, o->samples, k, &sp, &rad, id, sizeof(id));
+			if (!selected(o, d, id))
+				continue;
+			r.res.n_variants++;
+			rc = run_variant(&r, d, k, v);
+			if (rc == 0) {
+				struct hl_suite_totals t;
+				struct hl_suite_result one = r.res;
+
+				one.v = v;
+				one.n_variants = 1;
+				hl_suite_result_totals(&one, &t);
+				fprintf(o->log,
+					"hdlamp suite: %s: %d frames, %d cases judged, %d failed%s%s\n",
+					v->id, v->n_frames, t.judged, t.failed,
+					t.no_samples ? ", bins not reached" : "",
+					v->error[0] ? ", the run did not finish" : "");
+			}
+		}
+	}
+	code = rc == -ENOMEM || rc == -EIO ? 1 : rc < 0 ? 2 : hl_suite_result_passed(&r.res) ? 0 : 3;
+	if (rc == 0) {
+		static const char *const names[] = { "report.json", "junit.xml", "index.html" };
+
+		for (int i = 0; i < 3; i++) {
+			int wr;
+
+			snprintf(path, sizeof(path), "%s/%s", o->out, names[i]);
+			wr = i == 0 ? hl_suite_report_write(&r.res, path) :
+			     i == 1 ? hl_suite_junit_write(&r.res, path) :
+				      hl_suite_html_write(&r.res, path);
+			if (wr < 0) {
+				say(&r, "'%s': %s", path, strerror(-wr));
+				code = 1;
+			}
+		}
+		{
+			struct hl_suite_totals t;
+
+			hl_suite_result_totals(&r.res, &t);
+			fprintf(o->log,
+				"hdlamp suite: %s, %s: %d variants, %d cases judged, %d failed, %d "
+				"bins not reached, %d runs not finished: %s; results in %s\n",
+				s->name, o->preset ? o->preset : o->sil.ecu, r.res.n_variants,
+				t.judged, t.failed, t.no_samples, t.errors,
+				code == 0 ? "PASSED" : "FAILED", o->out);
+		}
+	}
+	hl_suite_result_free(&r.res);
+	for (int l = 0; l < 2; l++) {
+		free(r.dense[l]);
+		hl_lid_free(r.lids[l]);
+	}
+	hl_regulation_free(r.reg);
+	return code;
+}
