@@ -343,7 +343,7 @@ static void suite_r149(void **state)
 	for (int i = 0; i < 2; i++) {
 		assert_int_equal(s->scenario[i].road, HL_SUITE_STRAIGHT);
 		assert_true(s->scenario[i].range_m[0] == 50.0 &&
-			    s->scenario[i].range_m[1] == 200.0);
+			    s->scenario[i].range_m[1] == 220.0);
 	}
 	assert_sourced(s);
 	hl_suite_free(s);
