@@ -36,7 +36,8 @@ struct hl_world_state;
  */
 typedef void (*hl_sil_frame_fn)(void *ctx, const struct hl_scenario *sc,
 				const struct hl_world_state *w,
-				const struct hl_lid_grid *const grids[2], const float *const dist[2]);
+				const struct hl_lid_grid *const grids[2],
+				const float *const dist[2]);
 
 struct hl_sil_options {
 	const struct hl_config *cfg; /* cfg->scenario, lamps, dbc, restbus.*, verdict.*, loop.* */

@@ -56,8 +56,8 @@ static int load(const char *arg, struct hl_suite **ret)
 	}
 	rc = hl_suite_read(path, ret, &err);
 	if (rc == -ENOENT && !strchr(arg, '/') && !(n > 5 && !strcmp(arg + n - 5, ".json"))) {
-		fprintf(stderr, "hdlamp suite: no suite named '%s' (hdlamp suite list shows them)\n",
-			arg);
+		fprintf(stderr,
+			"hdlamp suite: no suite named '%s' (hdlamp suite list shows them)\n", arg);
 		return 2;
 	}
 	if (rc < 0) {

@@ -168,7 +168,13 @@ static int run_variant(struct run *r, const struct hl_suite_scenario *d, int k,
 			goto out;
 		}
 		*cfg = *o->cfg;
-		snprintf(cfg->scenario, sizeof(cfg->scenario), "%s", path);
+		if (strlen(path) >= sizeof(cfg->scenario)) {
+			say(r, "--out '%s': the path is too long%s", o->out, "");
+			free(cfg);
+			rc = -EINVAL;
+			goto out;
+		}
+		memcpy(cfg->scenario, path, strlen(path) + 1);
 		cfg->n_verdict_sets = 0; /* the suite judges; the sets' verdicts are not asked */
 		snprintf(v->trace_file, sizeof(v->trace_file), "traces/%s.log", v->id);
 		snprintf(trace, sizeof(trace), "%s/%s", o->out, v->trace_file);
@@ -269,7 +275,8 @@ int hl_suite_run(const struct hl_suite_run_options *o)
 		snprintf(r.res.preset, sizeof(r.res.preset), "%s", o->preset);
 	} else {
 		snprintf(r.res.ecu, sizeof(r.res.ecu), "%s", o->sil.ecu);
-		snprintf(r.res.fault, sizeof(r.res.fault), "%s", o->fault_text ? o->fault_text : "");
+		snprintf(r.res.fault, sizeof(r.res.fault), "%s",
+			 o->fault_text ? o->fault_text : "");
 	}
 	rc = prepare(&r);
 	for (int i = 0; rc == 0 && i < s->n_scenarios; i++) {
@@ -321,7 +328,10 @@ int hl_suite_run(const struct hl_suite_run_options *o)
 			}
 		}
 	}
-	code = rc == -ENOMEM || rc == -EIO ? 1 : rc < 0 ? 2 : hl_suite_result_passed(&r.res) ? 0 : 3;
+	code = rc == -ENOMEM || rc == -EIO    ? 1 :
+	       rc < 0			      ? 2 :
+	       hl_suite_result_passed(&r.res) ? 0 :
+						3;
 	if (rc == 0) {
 		static const char *const names[] = { "report.json", "junit.xml", "index.html" };
 

@@ -39,8 +39,8 @@ double hl_photometer_read(const struct hl_lamp_pose lamps[2],
 		hl_angles_from_dir(grids[l]->angles, p, &h, &v);
 		ret->h_deg[l] = h * DEG;
 		ret->v_deg[l] = v * DEG;
-		ret->intensity_cd[l] =
-			hl_lid_grid_lookup(grids[l], dense[l], (float)ret->h_deg[l], (float)ret->v_deg[l]);
+		ret->intensity_cd[l] = hl_lid_grid_lookup(grids[l], dense[l], (float)ret->h_deg[l],
+							  (float)ret->v_deg[l]);
 		/* the light travels from the lamp to the point (world frame); the normal faces it */
 		for (int k = 0; k < 3; k++)
 			d[k] = r > 0.0 ? (point_m[k] - lamps[l].pos_m[k]) / r : 0.0;

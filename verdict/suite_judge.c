@@ -74,7 +74,8 @@ int hl_suite_fmvss_cases(const struct hl_suite *s, enum hl_actor_role role,
 	for (int b = 0; b < s->n_bins; b++) {
 		const struct hl_suite_bin *bin = &s->bin[b];
 
-		if (bin->role != role || bin->from_m > v->range_m[1] + EPS ||
+		/* a bin that meets the measured range in one point only is not judged */
+		if (bin->role != role || bin->from_m >= v->range_m[1] - EPS ||
 		    bin->to_m < v->range_m[0] - BIN_STEP_M)
 			continue;
 		for (int p = 0; p < s->n_photometers; p++) {
@@ -171,7 +172,8 @@ int hl_suite_r149_cases(const struct hl_suite *s, const struct hl_regulation *re
 		c->from_m = d[i];
 		c->to_m = isfinite(hi) ? hi - BIN_STEP_M : v->range_m[1];
 		c->unit = "cd";
-		c->limit = INFINITY; /* the strictest row at this distance until a frame says which */
+		c->limit =
+			INFINITY; /* the strictest row at this distance until a frame says which */
 		for (int r = 0; r < reg->n_requirements; r++) {
 			const char *word = role == HL_ROLE_ONCOMING ? "Oncoming " : "Preceding ";
 			double x;

@@ -221,18 +221,20 @@ static void write_junit(void *ctx, FILE *f)
 			attr(f, "classname", cls);
 			attr(f, "name", c->name);
 			if (c->no_samples) {
-				snprintf(msg, sizeof(msg),
-					 "no sample in %.1f-%.1f m: the run never measured this bin",
-					 c->from_m, c->to_m);
+				snprintf(
+					msg, sizeof(msg),
+					"no sample in %.1f-%.1f m: the run never measured this bin",
+					c->from_m, c->to_m);
 				fputs(">\n      <error", f);
 				attr(f, "message", msg);
 				fputs("/>\n    </testcase>\n", f);
 			} else if (c->judged && !c->pass) {
-				snprintf(msg, sizeof(msg),
-					 "maximum %.6g %s (as judged %.6g) at range %.1f m (t %.2f s) "
-					 "%s the limit %.6g %s",
-					 c->max_raw, c->unit, c->value, c->at_range_m, c->at_t_s,
-					 c->limit_is_min ? "below" : "over", c->limit, c->unit);
+				snprintf(
+					msg, sizeof(msg),
+					"maximum %.6g %s (as judged %.6g) at range %.1f m (t %.2f s) "
+					"%s the limit %.6g %s",
+					c->max_raw, c->unit, c->value, c->at_range_m, c->at_t_s,
+					c->limit_is_min ? "below" : "over", c->limit, c->unit);
 				fputs(">\n      <failure", f);
 				attr(f, "message", msg);
 				fputs("/>\n    </testcase>\n", f);

@@ -22,7 +22,7 @@ int hl_suite_variant_count(const struct hl_suite_scenario *d, int samples)
 {
 	const int ns = d->speed_mph[0] == d->speed_mph[1] ? 1 : samples;
 	const int nr = d->road == HL_SUITE_STRAIGHT || d->radius_m[0] == d->radius_m[1] ? 1 :
-											   samples;
+											  samples;
 
 	return ns * nr;
 }
@@ -38,14 +38,14 @@ void hl_suite_variant_params(const struct hl_suite_scenario *d, int samples, int
 {
 	const int ns = d->speed_mph[0] == d->speed_mph[1] ? 1 : samples;
 	const int nr = d->road == HL_SUITE_STRAIGHT || d->radius_m[0] == d->radius_m[1] ? 1 :
-											   samples;
+											  samples;
 
 	*ret_speed_mph = sample(d->speed_mph, ns, k / nr);
 	*ret_radius_m = d->road == HL_SUITE_STRAIGHT ? 0.0 : sample(d->radius_m, nr, k % nr);
 	if (d->road == HL_SUITE_STRAIGHT)
 		snprintf(ret_id, id_size, "%s-%gmph", d->id, *ret_speed_mph);
 	else
-		snprintf(ret_id, id_size, "%s-%gmph-%gm", d->id, *ret_speed_mph, *ret_radius_m);
+		snprintf(ret_id, id_size, "%s-%gmph-r%gm", d->id, *ret_speed_mph, *ret_radius_m);
 }
 
 /* The JSON text for a stimulus vehicle gap_m ahead (centre-line s) and a duration. */
@@ -79,8 +79,7 @@ static char *write_json(const struct hl_suite_scenario *d, double speed_mph, dou
 			LEAD_M, fmin(gap_m + 400.0, 1.9 * M_PI * radius_m), radius_m,
 			d->road == HL_SUITE_LEFT ? "left" : "right");
 	fprintf(f, "    ],\n    \"lanes\": {\"count\": 2, \"width_m\": 3.5}\n  },\n");
-	fprintf(f, "  \"ego\": {\"start_s_m\": %.3f, \"lane\": 1, \"speed_mps\": %.6f}", ego_s,
-		v);
+	fprintf(f, "  \"ego\": {\"start_s_m\": %.3f, \"lane\": 1, \"speed_mps\": %.6f}", ego_s, v);
 	if (d->has_role)
 		fprintf(f,
 			",\n  \"actors\": [\n    {\"id\": \"stimulus\", \"kind\": \"car\", \"role\": "
@@ -186,8 +185,8 @@ int hl_suite_variant_scenario(const struct hl_suite *s, const struct hl_suite_sc
 		sc = NULL;
 	}
 	if (!sc) {
-		snprintf(msg, msg_size, "%s: no start gives a range of %g m on a %g m radius", d->id,
-			 d->range_m[1], radius_m);
+		snprintf(msg, msg_size, "%s: no start gives a range of %g m on a %g m radius",
+			 d->id, d->range_m[1], radius_m);
 		return -EINVAL;
 	}
 	/* the end: every photometer inside the near end */

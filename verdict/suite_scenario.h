@@ -26,7 +26,7 @@
 
 /* How many variants a scenario has with samples points per range (2: both ends). */
 int hl_suite_variant_count(const struct hl_suite_scenario *d, int samples);
-/* Variant k's speed (mph) and radius (m; 0 on a straight), and its id "ID-NNmph[-RRRm]". */
+/* Variant k's speed (mph) and radius (m; 0 on a straight), and its id "ID-NNmph[-rRRRm]". */
 void hl_suite_variant_params(const struct hl_suite_scenario *d, int samples, int k,
 			     double *ret_speed_mph, double *ret_radius_m, char *ret_id,
 			     size_t id_size);

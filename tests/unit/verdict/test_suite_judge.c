@@ -87,8 +87,7 @@ static void judge_bin_edges(void **state)
 static void judge_rounding(void **state)
 {
 	(void)state;
-	struct hl_suite s = { .has_rounding = true, .decimals = 1,
-			      .rounding = HL_SUITE_HALF_EVEN };
+	struct hl_suite s = { .has_rounding = true, .decimals = 1, .rounding = HL_SUITE_HALF_EVEN };
 
 	assert_true(hl_suite_round(&s, 0.25) == 0.2); /* a tie: to the even digit */
 	assert_true(hl_suite_round(&s, 0.35) == 0.4); /* 0.35 is 0.34999... in binary: a tie */
@@ -135,15 +134,15 @@ static void judge_fmvss_cases(void **state)
 				pm = p;
 		}
 	assert_true(pm >= 0);
-	/* 15-60 m: the bins 15.0-29.9 and 30.0-59.9, and 60.0-119.9 for its first 0.0 m */
+	/* 15-60 m: the bins 15.0-29.9 and 30.0-59.9; 60.0-119.9 meets it in one point only */
 	assert_int_equal(hl_suite_fmvss_cases(s, HL_ROLE_ONCOMING, &v), 0);
-	assert_int_equal(v.n_cases, 3 * n_on);
+	assert_int_equal(v.n_cases, 2 * n_on);
 	hl_suite_fmvss_sample(s, &v, pm, 14.0, 99.0, 0.0); /* outside the measured range */
 	hl_suite_fmvss_sample(s, &v, pm, 29.95, 3.12, 1.0); /* 3.1 as judged: passes 3.1 */
 	hl_suite_fmvss_sample(s, &v, pm, 25.0, 2.0, 1.5);
 	hl_suite_fmvss_sample(s, &v, pm, 45.0, 1.86, 0.5); /* 1.9 > 1.8: fails */
 	hl_suite_fmvss_sample(s, &v, pm, 31.0, 1.7, 0.9);
-	hl_suite_fmvss_sample(s, &v, pm, 60.0, 0.05, 0.2);
+	hl_suite_fmvss_sample(s, &v, pm, 60.0, 0.05, 0.2); /* a bin not judged here */
 	hl_suite_fmvss_sample(s, &v, pm, 61.0, 5.0, 0.1); /* beyond 60 m: not measured */
 	hl_suite_judge_finish(s, &v);
 
@@ -159,9 +158,8 @@ static void judge_fmvss_cases(void **state)
 	assert_true(c->max_raw == 1.86 && fabs(c->value - 1.9) < 1e-12 && c->limit == 1.8);
 	assert_true(c->judged && !c->pass && fabs(c->margin + 0.1) < 1e-12);
 	assert_true(c->at_range_m == 45.0);
-	c = find(&v, 60.0, s->photometer[pm].id);
-	assert_int_equal(c->n_samples, 1);
-	assert_true(c->value == 0.0 && c->pass); /* 0.05: a tie, to the even 0.0 */
+	for (int i = 0; i < v.n_cases; i++)
+		assert_true(v.cases[i].from_m != 60.0);
 	/* another photometer of the oncoming car: limits, but never sampled */
 	for (int p = 0; p < s->n_photometers; p++)
 		if (p != pm && s->photometer[p].role == HL_ROLE_ONCOMING) {
