@@ -12,9 +12,6 @@
 #include "verdict/photometer.h"
 #include "verdict/suite_judge.h"
 
-#define IIHS_N ((int)(HL_SUITE_IIHS_FAR_M / HL_SUITE_IIHS_STEP_M) + 1)
-#define IIHS_GLARE_FROM_M 10.0
-
 struct hl_suite_measure {
 	const struct hl_suite *s;
 	const struct hl_suite_scenario *d;
@@ -164,12 +161,13 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 	struct hl_suite_birdseye *b = &v->birdseye;
 	const double hw = hl_road_half_width(&sc->road);
 	const double s0 = w->ego.s_m;
+	const int n = (int)floor(v->range_m[1] / HL_SUITE_IIHS_STEP_M + 1e-9) + 1;
 
 	if (!isfinite(s0))
 		return;
 	if (!b->left) {
-		b->left = calloc(IIHS_N, sizeof(*b->left));
-		b->right = calloc(IIHS_N, sizeof(*b->right));
+		b->left = calloc((size_t)n, sizeof(*b->left));
+		b->right = calloc((size_t)n, sizeof(*b->right));
 		if (!b->left || !b->right) {
 			m->err = -ENOMEM;
 			return;
@@ -178,7 +176,7 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 	/* the last frame is the one reported: the series start over */
 	for (int k = 0; k < 3; k++)
 		v->series[k].n = 0;
-	b->n = IIHS_N;
+	b->n = n;
 	b->ego[0] = w->ego.pos_m[0];
 	b->ego[1] = w->ego.pos_m[1];
 	b->ego_heading_rad = w->ego.heading_rad;
@@ -187,7 +185,7 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 		double along = 0.0, prev[2] = { 0 };
 
 		m->vis_m[side] = NAN;
-		for (int i = 0; i < IIHS_N; i++) {
+		for (int i = 0; i < n; i++) {
 			double p[3], lx;
 
 			hl_road_point(&sc->road, s0 + i * HL_SUITE_IIHS_STEP_M, side ? -hw : hw, p);
@@ -210,8 +208,8 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 	}
 	m->glare_max_lx = -INFINITY;
 	m->glare_at_m = NAN;
-	for (double x = IIHS_GLARE_FROM_M; x <= HL_SUITE_IIHS_FAR_M + 1e-9;
-	     x += HL_SUITE_IIHS_STEP_M) {
+	for (int i = (int)ceil(v->range_m[0] / HL_SUITE_IIHS_STEP_M - 1e-9); i < n; i++) {
+		const double x = i * HL_SUITE_IIHS_STEP_M;
 		double p[3], lx;
 
 		hl_road_point(&sc->road, s0 + x, hl_road_lane_offset(&sc->road, 2), p);
@@ -286,8 +284,8 @@ int hl_suite_measure_finish(struct hl_suite_measure *m)
 				      s->iihs_source))
 				return -ENOMEM;
 		}
-		snprintf(name, sizeof(name), "highest illuminance %g m over lane 2 (10-%g m)",
-			 s->glare_height_m, HL_SUITE_IIHS_FAR_M);
+		snprintf(name, sizeof(name), "highest illuminance %g m over lane 2 (%g-%g m)",
+			 s->glare_height_m, m->v->range_m[0], m->v->range_m[1]);
 		if (!reported(m->v, name, "lx", m->glare_max_lx, m->glare_at_m, m->iihs_t_s,
 			      s->iihs_source))
 			return -ENOMEM;

@@ -7,8 +7,9 @@
  * illuminance at the glare height over the oncoming lane's centre) — the same for a held
  * preset stepped through the scenario, the SIL loop's frames, and hdlampd's live frames.
  *
- * IIHS, as docs/lab.md documents: points every 1 m along each edge from abeam the lamps to
- * 300 m ahead and over the centre of lane 2 from 10 m to 300 m, each on a plane facing the
+ * IIHS, as docs/lab.md documents: points every 1 m along each edge from the vehicle's front to
+ * the far end of the variant's range and over the centre of lane 2 across the range (centre-line
+ * distance ahead of the front), each on a plane facing the
  * lamps' midpoint; a visibility distance is the length along its edge to the farthest point
  * still at the visibility illuminance or above; the last frame measured is the one reported.
  *
@@ -41,7 +42,6 @@ void hl_suite_measure_frame(struct hl_suite_measure *m, const struct hl_scenario
 int hl_suite_measure_finish(struct hl_suite_measure *m);
 void hl_suite_measure_free(struct hl_suite_measure *m);
 
-#define HL_SUITE_IIHS_FAR_M 300.0
-#define HL_SUITE_IIHS_STEP_M 1.0
+#define HL_SUITE_IIHS_STEP_M 1.0 /* between the IIHS points */
 
 #endif
