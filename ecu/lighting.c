@@ -36,6 +36,7 @@ void hl_ecu_config_default(struct hl_ecu_config *ret)
 		.camera = { .pos_m = { -1.8, 0.0, 1.3 } },
 		.window_fraction = HL_ECU_WINDOW_FRACTION,
 		.margin_deg = 0.5,
+		.margin_m = 0.2,
 		.min_confidence = 0.5,
 		.auto_high_mps = 40.0 / 3.6,
 		.vehicle_timeout_ns = 60000000,
@@ -74,6 +75,8 @@ static int check_config(const struct hl_ecu_config *c, const char **what)
 		*what = "window fraction: expected a number in (0, 1)";
 	else if (!(c->margin_deg >= 0.0 && c->margin_deg <= 45.0))
 		*what = "margin: expected degrees in [0, 45]";
+	else if (!(c->margin_m >= 0.0 && c->margin_m <= 5.0))
+		*what = "margin: expected metres in [0, 5]";
 	else if (!(c->min_confidence >= 0.0 && c->min_confidence <= 1.0))
 		*what = "minimum confidence: expected a number in [0, 1]";
 	else if (!(c->auto_high_mps >= 0.0 && c->auto_high_mps <= 100.0))
@@ -260,14 +263,16 @@ static int mask_lamp(const struct hl_ecu *e, const struct lamp *l, const bool *r
 	for (int i = 0; i < e->objects.n; i++) {
 		const struct hl_camera_object *o = &e->objects.obj[i];
 		struct hl_ecu_box b;
+		double mh;
 
 		if (!rel[i])
 			continue;
 		hl_ecu_box_to_lamp(&e->c.camera, &l->mount, sys, o->h_left_deg, o->h_right_deg,
 				   o->v_bottom_deg, o->v_top_deg, o->distance_m, &b);
+		mh = m + atan(e->c.margin_m / o->distance_m) * (180.0 / M_PI);
 		for (int k = 0; k < l->n; k++) {
 			if (l->out[k] == 0.0f ||
-			    !hl_ecu_window_overlaps(&l->windows[k], b.h0_deg - m, b.h1_deg + m,
+			    !hl_ecu_window_overlaps(&l->windows[k], b.h0_deg - mh, b.h1_deg + mh,
 						    b.v0_deg - m, b.v1_deg + m))
 				continue;
 			l->out[k] = 0.0f;

@@ -18,7 +18,8 @@
  *   3. Bend light (ecu/bend.h) from speed and yaw rate, when enabled.
  *   4. Glare-free: per lamp and relevant object, the object's box from the camera is carried
  *      to the lamp's angles at its distance (ecu/parallax.h), widened by margin_deg on every
- *      side, and every source whose window (ecu/windows.h) overlaps it is switched off (0).
+ *      side and in H also by atan(margin_m / distance), and every source whose window
+ *      (ecu/windows.h) overlaps it is switched off (0).
  * A relevant object is one of class oncoming, preceding or pedestrian with confidence >=
  * min_confidence, a finite box with h_left <= h_right and v_bottom <= v_top, and a distance
  * > 0; others are counted in hl_ecu_status (ignored, invalid), never masked. Under the fault
@@ -70,6 +71,9 @@ struct hl_ecu_config {
 	struct hl_ecu_mount camera;
 	double window_fraction; /* ecu/windows.h */
 	double margin_deg; /* around every object's box, each side */
+	/* also around it, each side in H, as a length at the object's distance: what a camera's
+	 * box of the body leaves out (outside mirrors) and its lateral error */
+	double margin_m;
 	double min_confidence;
 	double auto_high_mps; /* auto: high beam at or above this speed */
 	int64_t vehicle_timeout_ns, objects_timeout_ns;

@@ -119,7 +119,9 @@ static int load_lamps(struct sil *s)
 		struct hl_lid_error err;
 		int rc;
 
-		if (!paths[l][0]) {
+		if (s->o->lids) {
+			s->lids[l] = s->o->lids[l];
+		} else if (!paths[l][0]) {
 			rc = hl_model_hd84((enum hl_side)l, &s->lids[l]);
 			if (rc < 0) {
 				log_msg(s, "the HD84 model: %s%s", strerror(-rc), "");
@@ -454,7 +456,8 @@ static void teardown(struct sil *s)
 	for (int l = 0; l < N_LAMPS; l++) {
 		hl_combiner_free(s->comb[l]);
 		free(s->lamp[l].i);
-		hl_lid_free(s->lids[l]);
+		if (!s->o->lids)
+			hl_lid_free(s->lids[l]);
 	}
 	free(s->frame.results);
 	hl_loop_latency_free(s->loop);

@@ -25,6 +25,7 @@
 #include "daemon/core/config.h"
 #include "ecu/lighting.h"
 
+struct hl_lid;
 struct hl_lid_grid;
 struct hl_scenario;
 struct hl_world_state;
@@ -53,6 +54,9 @@ struct hl_sil_options {
 		*frames; /* NULL: none; an existing directory for the frames' PNGs (sil/frames.h) */
 	uint32_t bitrate, data_bitrate; /* the virtual bus's; 0: 500 kbit/s, 2 Mbit/s */
 	FILE *log;
+	/* the lamps, borrowed (they must outlive the run; a suite loads them once for all its
+	 * runs); NULL: cfg->lid_left/right or the HD84 model, loaded by the run */
+	struct hl_lid *const *lids;
 	hl_sil_frame_fn on_frame; /* NULL: none */
 	void *on_frame_ctx;
 	bool quiet; /* no speed and verdict lines on log (a suite logs its own) */

@@ -57,6 +57,7 @@ static void usage(FILE *f)
 		"                  [--lamps DIR | --lid LEFT --lid RIGHT] [--low PRESET] [--high PRESET]\n"
 		"                  [--camera X,Y,Z[,YAW,PITCH]] [--lamp-left X,Y,Z[,YAW,PITCH]]\n"
 		"                  [--lamp-right X,Y,Z[,YAW,PITCH]] [--timeout-ms MS] [--margin-deg D]\n"
+		"                  [--margin-m M]\n"
 		"                  [--window-fraction F] [--auto-kmh V] [--min-confidence C] [--no-bend]\n"
 		"                  [--fault NAME]... [--cycles N] [--windows FILE]\n"
 		"\n"
@@ -71,7 +72,8 @@ static void usage(FILE *f)
 		"Positions in the vehicle frame (m; x forward, y left, z up; yaw left, pitch up, deg):\n"
 		"camera default -1.8,0,1.3; lamps 0,0.7,0.65 and 0,-0.7,0.65 pitched -0.573.\n"
 		"--timeout-ms: each input's timeout (default 3 of its GenMsgCycleTime); --margin-deg\n"
-		"(0.5) around each object; --window-fraction (0.05) of the high beam that makes a\n"
+		"(0.5) around each object, and --margin-m (0.2) at its distance in H (mirrors);\n"
+		"--window-fraction (0.05) of the high beam that makes a\n"
 		"source's window; --auto-kmh (40) auto high beam speed; --min-confidence (0.5).\n"
 		"\n"
 		"--fault NAME: ignore-objects (sees no objects), no-failsafe (keeps the last inputs),\n"
@@ -185,6 +187,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		{ "lamp-right", required_argument, NULL, '1' },
 		{ "timeout-ms", required_argument, NULL, 't' },
 		{ "margin-deg", required_argument, NULL, 'm' },
+		{ "margin-m", required_argument, NULL, 'M' },
 		{ "window-fraction", required_argument, NULL, 'f' },
 		{ "auto-kmh", required_argument, NULL, 'a' },
 		{ "min-confidence", required_argument, NULL, 'k' },
@@ -252,6 +255,10 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		case 'm':
 			if (parse_num(optarg, 0, 45, &o->cfg.margin_deg) < 0)
 				return bad("--margin-deg", optarg, "degrees in [0, 45]");
+			break;
+		case 'M':
+			if (parse_num(optarg, 0, 5, &o->cfg.margin_m) < 0)
+				return bad("--margin-m", optarg, "metres in [0, 5]");
 			break;
 		case 'f':
 			if (parse_num(optarg, 0, 1, &v) < 0 || v == 0 || v == 1)

@@ -174,9 +174,10 @@ static int ecu_json(const struct hl_ecu_config *cfg, const struct hl_ecu_fmu_fau
 	fprintf(f, ",\n  \"camera\": ");
 	mount_json(f, &cfg->camera);
 	fprintf(f,
-		",\n  \"window_fraction\": %.17g,\n  \"margin_deg\": %.17g,\n"
+		",\n  \"window_fraction\": %.17g,\n  \"margin_deg\": %.17g,\n  \"margin_m\": %.17g,\n"
 		"  \"min_confidence\": %.17g,\n  \"auto_high_mps\": %.17g,\n",
-		cfg->window_fraction, cfg->margin_deg, cfg->min_confidence, cfg->auto_high_mps);
+		cfg->window_fraction, cfg->margin_deg, cfg->margin_m, cfg->min_confidence,
+		cfg->auto_high_mps);
 	fprintf(f, "  \"vehicle_timeout_ms\": %.17g,\n  \"objects_timeout_ms\": %.17g,\n",
 		(double)cfg->vehicle_timeout_ns / 1e6, (double)cfg->objects_timeout_ns / 1e6);
 	fprintf(f, "  \"e2e_max_errors\": %d,\n  \"bend\": %s,\n  \"faults\": [",

@@ -49,13 +49,12 @@ static int write_text(const char *path, const char *text)
 	return rc;
 }
 
-/* The lamps' distributions under the held preset, once. 0 or -errno (logged). */
-static int load_preset(struct run *r)
+/* The lamps, once for every run (building the HD84 model takes longer than a run). 0 or -errno
+ * (logged). */
+static int load_lamps(struct run *r)
 {
 	const struct hl_config *cfg = r->o->cfg;
 	const char *paths[2] = { cfg->lid_left, cfg->lid_right };
-	struct hl_preset *p = NULL;
-	float *cur = NULL;
 	int rc;
 
 	for (int l = 0; l < 2; l++) {
@@ -71,6 +70,16 @@ static int load_preset(struct run *r)
 		if (rc < 0)
 			return rc;
 	}
+	return 0;
+}
+
+/* The lamps' distributions under the held preset, once. 0 or -errno (logged). */
+static int load_preset(struct run *r)
+{
+	struct hl_preset *p = NULL;
+	float *cur = NULL;
+	int rc;
+
 	rc = hl_tool_preset_load("suite", r->o->preset, r->lids, 2, &p);
 	if (rc < 0)
 		return rc;
@@ -181,6 +190,7 @@ static int run_variant(struct run *r, const struct hl_suite_scenario *d, int k,
 		so.cfg = cfg;
 		so.trace = trace;
 		so.report = so.junit = so.frames = NULL;
+		so.lids = r->lids;
 		so.on_frame = on_frame;
 		so.on_frame_ctx = m;
 		so.quiet = true;
@@ -254,7 +264,10 @@ static int prepare(struct run *r)
 			return rc;
 		}
 	}
-	return o->preset ? load_preset(r) : 0;
+	rc = load_lamps(r);
+	if (rc == 0 && o->preset)
+		rc = load_preset(r);
+	return rc;
 }
 
 static bool selected(const struct hl_suite_run_options *o, const struct hl_suite_scenario *d,

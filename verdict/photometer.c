@@ -41,6 +41,10 @@ double hl_photometer_read(const struct hl_lamp_pose lamps[2],
 		ret->v_deg[l] = v * DEG;
 		ret->intensity_cd[l] = hl_lid_grid_lookup(grids[l], dense[l], (float)ret->h_deg[l],
 							  (float)ret->v_deg[l]);
+		/* an incrementally combined distribution (lamp/combine.h) can hold -1e-9 cd where every
+		 * source is off: rounding, not light */
+		if (ret->intensity_cd[l] < 0.0)
+			ret->intensity_cd[l] = 0.0;
 		/* the light travels from the lamp to the point (world frame); the normal faces it */
 		for (int k = 0; k < 3; k++)
 			d[k] = r > 0.0 ? (point_m[k] - lamps[l].pos_m[k]) / r : 0.0;

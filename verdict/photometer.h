@@ -3,7 +3,8 @@
  * A photometer (docs/lab.md, docs/design.md §10): a point with a plane normal on a road user (or
  * anywhere in the world), measuring the illuminance the ego vehicle's two lamps give on its
  * plane, E = sum_l I_l cos(theta_l) / r_l^2, where I_l is the lamp's intensity toward the point
- * (a point lookup of its distribution, bilinear as hl_lid_grid_lookup()), r_l the distance and
+ * (a point lookup of its distribution, bilinear as hl_lid_grid_lookup(), negative rounding
+ * residues of an incremental combination taken as 0), r_l the distance and
  * theta_l the angle between the light's direction of travel and the plane's inward normal (the
  * normal points out of the receiving face, toward where the light comes from: light arriving
  * from behind the plane counts 0). An eye (verdict/glare.h) is the special case of a plane

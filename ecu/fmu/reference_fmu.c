@@ -202,6 +202,7 @@ static int load_options(struct instance *c, json_t *root)
 	if (get_mount(c, root, "camera", &c->cfg.camera) < 0 ||
 	    get_num(c, root, "window_fraction", 0, 1, &c->cfg.window_fraction) < 0 ||
 	    get_num(c, root, "margin_deg", 0, 45, &c->cfg.margin_deg) < 0 ||
+	    get_num(c, root, "margin_m", 0, 5, &c->cfg.margin_m) < 0 ||
 	    get_num(c, root, "min_confidence", 0, 1, &c->cfg.min_confidence) < 0 ||
 	    get_num(c, root, "auto_high_mps", 0, 100, &c->cfg.auto_high_mps) < 0)
 		return -EINVAL;

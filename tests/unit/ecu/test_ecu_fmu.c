@@ -98,6 +98,7 @@ static void write_config(struct fmu_fixture *f, const char *guid)
 	fprintf(o,
 		"{\"guid\": \"%s\", \"inputs_dbc\": \"hd84_inputs.dbc\", "
 		"\"camera\": [-1.8, 0, 1.3, 0, 0], \"window_fraction\": 0.05, \"margin_deg\": 0.5, "
+		"\"margin_m\": 0.2, "
 		"\"min_confidence\": 0.5, \"auto_high_mps\": %.17g, \"vehicle_timeout_ms\": 60, "
 		"\"objects_timeout_ms\": 120, \"e2e_max_errors\": 3, \"bend\": true, "
 		"\"faults\": [], \"lamps\": [",

@@ -226,7 +226,7 @@ static void lighting_auto_high_beam(void **state)
 
 /* The test's own mask: the nine points of the box, margin, windows from the dense grids. */
 static void expected_mask(struct fixture *f, int s, const struct hl_camera_object *objs, int n,
-			  double margin, const double cam[3], bool *off)
+			  double margin, double margin_m, const double cam[3], bool *off)
 {
 	for (int k = 0; k < HL_HD84_SOURCES; k++)
 		off[k] = false;
@@ -249,7 +249,10 @@ static void expected_mask(struct fixture *f, int s, const struct hl_camera_objec
 				v1 = fmax(v1, v);
 			}
 		}
-		h0 -= margin, h1 += margin, v0 -= margin, v1 += margin;
+		/* in H also the length margin at the object's distance */
+		const double mh = margin + atan(margin_m / o->distance_m) * 180.0 / M_PI;
+
+		h0 -= mh, h1 += mh, v0 -= margin, v1 += margin;
 		for (int k = 0; k < HL_HD84_SOURCES; k++) {
 			const struct hl_ecu_window *w = &f->win[s][k];
 
@@ -274,7 +277,7 @@ static void check_glarefree(struct fixture *f, const struct hl_camera_objects *o
 	for (int s = 0; s < 2; s++) {
 		int n_off = 0, lit_off = 0;
 
-		expected_mask(f, s, o->obj, o->n, c.margin_deg, c.camera.pos_m, off[s]);
+		expected_mask(f, s, o->obj, o->n, c.margin_deg, c.margin_m, c.camera.pos_m, off[s]);
 		for (int k = 0; k < HL_HD84_SOURCES; k++) {
 			const float want = off[s][k] ? 0.0f : f->high[s][k];
 
@@ -557,7 +560,10 @@ static void lighting_pixel_lamp(void **state)
 				v1 = fmax(v1, v);
 			}
 		}
-		off = !w[k].empty && w[k].h0_deg <= h1 + 0.5 && h0 - 0.5 <= w[k].h1_deg &&
+		/* 0.5 deg on every side, and 0.2 m at the 60 m of the object in H */
+		const double mh = 0.5 + atan(0.2 / 60.0) * 180.0 / M_PI;
+
+		off = !w[k].empty && w[k].h0_deg <= h1 + mh && h0 - mh <= w[k].h1_deg &&
 		      w[k].v0_deg <= v1 + 0.5 && v0 - 0.5 <= w[k].v1_deg;
 		n_off += off;
 		assert_true(hl_ecu_output(e, 0)[k] == (off ? 0.0f : 1.0f));
