@@ -140,6 +140,8 @@ def plot(s, path, footer=""):
         a2.text(i, pf[n]["median_us"], f"{pf[n]['median_us']:.2f} µs\n"
                 f"{pf[n]['readings_per_frame']:g} readings", ha="center", va="bottom", fontsize=9)
     a2.set_yscale("log")
+    a2.set_ylim(top=max(pf[n]["median_us"] for n in names) * 5)
+    a1.set_ylim(top=max(med + [s["goal_s"]]) * 1.15)
     a2.set_ylabel("µs per frame (median)")
     a2.set_title("measuring a frame (hdlamp-bench-suite)", fontsize=10)
     fig.text(0.01, 0.01, footer, fontsize=7, color="#555555")
@@ -170,11 +172,20 @@ def main():
     ap.add_argument("--out", default=os.path.join(SRC, "bench-out"))
     ap.add_argument("--build", default=os.path.join(SRC, "build"))
     ap.add_argument("--core", type=int)
+    ap.add_argument("--replot", action="store_true",
+                    help="measure nothing: draw DIR/suite.png again from DIR/suite.json")
     a = ap.parse_args()
     if a.runs < 1:
         print("bench_suite: --runs >= 1 expected", file=sys.stderr)
         return 2
     os.makedirs(a.out, exist_ok=True)
+    if a.replot:
+        with open(os.path.join(a.out, "suite.json")) as f:
+            s = json.load(f)
+        plot(s, os.path.join(a.out, "suite.png"), f"{s['machine']['cpu_model']}, "
+             f"{s['machine']['cpus_usable']} cores; {s['started']}; {s['command']}")
+        print(summary(s))
+        return 0
     try:
         s = section(a.build, a.out, a.runs, a.core)
     except (RuntimeError, OSError, subprocess.CalledProcessError, ValueError, KeyError) as e:
