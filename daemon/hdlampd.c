@@ -13,6 +13,7 @@
 #include "can/assembler.h"
 #include "daemon/core/config.h"
 #include "daemon/live.h"
+#include "daemon/live_suite.h"
 
 #define MAX_OVERRIDES 128
 
@@ -27,6 +28,7 @@ struct options {
 	char lamps_buf[HL_CONFIG_NAME];
 	unsigned ring_slots;
 	bool no_render, print_cycles, print_config;
+	struct hl_live_suite_options suite; /* --suite: suite.suite set */
 };
 
 static void usage(FILE *f)
@@ -63,6 +65,12 @@ static void usage(FILE *f)
 		"  --report FILE      = loop.report: the run's JSON report at exit; the exit code is\n"
 		"                     then 0 only when every verdict held, 3 when one failed\n"
 		"  --loop-events FILE = loop.events: JSON lines per loop event ('-': stdout)\n"
+		"  --suite NAME|FILE  run a test suite's variants one after the other in real time\n"
+		"                     (docs/lab.md): each its own scenario with --exit-at-end,\n"
+		"                     against --ecu MODEL or the ECU on --can IFACE --restbus IFACE;\n"
+		"                     exit 0 every test held, 3 one failed\n"
+		"  --suite-out DIR    where the suite's results go (default suite-NAME)\n"
+		"  --suite-only ID    one scenario or variant of the suite\n"
 		"  --ring-slots N     snapshots between CAN and render thread, a power of two (256)\n"
 		"  --no-render        decode only: print to stdout instead of rendering\n"
 		"  --print-cycles     with --no-render: one JSON line per complete lamp cycle\n"
@@ -95,6 +103,9 @@ static int add_override(struct options *o, const char *section_key, const char *
 static int parse_options(int argc, char **argv, struct options *o)
 {
 	static const struct option opts[] = {
+		{ "suite", required_argument, NULL, 1000 },
+		{ "suite-out", required_argument, NULL, 1001 },
+		{ "suite-only", required_argument, NULL, 1002 },
 		{ "config", required_argument, NULL, 'C' },
 		{ "set", required_argument, NULL, 'S' },
 		{ "can", required_argument, NULL, 'c' },
@@ -199,6 +210,15 @@ static int parse_options(int argc, char **argv, struct options *o)
 		case 'n':
 			o->no_render = true;
 			break;
+		case 1000:
+			o->suite.suite = optarg;
+			break;
+		case 1001:
+			o->suite.out = optarg;
+			break;
+		case 1002:
+			o->suite.only = optarg;
+			break;
 		case 'p':
 			o->print_cycles = true;
 			break;
@@ -240,6 +260,44 @@ static int parse_options(int argc, char **argv, struct options *o)
 	}
 	if (o->print_config)
 		return 0;
+	if ((o->suite.out || o->suite.only) && !o->suite.suite) {
+		fprintf(stderr, "hdlampd: --suite-out and --suite-only go with --suite\n");
+		return -EINVAL;
+	}
+	if (o->suite.suite) {
+		/* the suite gives every run its scenario, and each run ends with it */
+		struct hl_config check = o->cfg;
+		const char *why = o->cfg.scenario[0]	? "--scenario: the suite makes its own" :
+				  o->cfg.replay[0]	? "--replay: a suite runs in real time" :
+				  o->cfg.pose_listen[0] ? "--pose: the suite's scenarios move" :
+				  o->no_render ? "--no-render: the photometers need frames" :
+				  o->cfg.loop_report[0] ?
+						 "--report: each run's goes to DIR/runs" :
+				  !o->cfg.ecu_model[0] && !o->cfg.restbus_interface[0] ?
+						 "give --ecu MODEL, or --restbus IFACE for the "
+						 "ECU on --can IFACE" :
+						 NULL;
+
+		if (why) {
+			fprintf(stderr, "hdlampd: --suite: not with %s\n", why);
+			return -EINVAL;
+		}
+		snprintf(check.scenario, sizeof(check.scenario), "(the suite's)");
+		check.loop_exit_at_end = true;
+		if (hl_config_check(&check, &err) < 0) {
+			fprintf(stderr, "hdlampd: %s\n", err.msg);
+			return -EINVAL;
+		}
+		snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
+		for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save);
+		     tok && o->n_lamps < HL_ASM_MAX_LAMPS; tok = strtok_r(NULL, ",", &save))
+			o->lamp_names[o->n_lamps++] = tok;
+		if (hl_config_check_files(&o->cfg, true, &err) < 0) {
+			fprintf(stderr, "hdlampd: %s\n", err.msg);
+			return -EINVAL;
+		}
+		return 0;
+	}
 	if (hl_config_check(&o->cfg, &err) < 0) {
 		/* the input's check says how to give one */
 		fprintf(stderr, "hdlampd: %s%s\n", err.msg,
@@ -289,7 +347,8 @@ int main(int argc, char **argv)
 			fprintf(stderr, "hdlampd: --print-cycles goes with --no-render\n");
 			return 2;
 		}
-		rc = hl_live_run(&o.cfg, &args);
+		rc = o.suite.suite ? hl_live_suite_run(&o.cfg, &args, &o.suite) :
+				     hl_live_run(&o.cfg, &args);
 	}
 	for (int i = 0; i < o.n_overrides; i++) {
 		free(o.overrides[i]);

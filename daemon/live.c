@@ -202,6 +202,7 @@ static int setup_renderer(struct live *lv, int n_src)
 		.restbus = lv->restbus,
 		.loop = lv->loop,
 		.ecu = lv->ecu,
+		.suite = lv->args->suite,
 	};
 	int rc;
 
@@ -515,6 +516,8 @@ int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)
 	}
 	if (rc < 0 && lv.config_error)
 		code = 2;
+	if (args->ret_end)
+		*args->ret_end = rc < 0 ? "setup_error" : end;
 	teardown(&lv);
 	if (sfd >= 0)
 		close(sfd);

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 
 #include "daemon/core/config.h"
+#include "daemon/core/suite_live.h"
 
 struct hl_live_args {
 	const char *config_path; /* re-read on SIGHUP; NULL: nothing to re-read */
@@ -22,6 +23,8 @@ struct hl_live_args {
 	unsigned ring_slots;
 	bool render; /* false: decode only, JSON lines on stdout */
 	bool print_cycles; /* decode only: a line per complete lamp cycle */
+	struct hl_suite_live *suite; /* hdlampd --suite: measures every frame; NULL: none */
+	const char **ret_end; /* NULL, or where the run's end goes ("scenario_end", "signal", ...) */
 };
 
 int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args);

@@ -209,6 +209,8 @@ static int setup_renderer(struct hl_live_render *r, bool *config_error)
 			hl_live_log("renderer: %s", strerror(-rc));
 		else
 			hl_pipeline_set_scene(r->pipe, pt->sc, pt->glare, pt->pose);
+		if (rc == 0 && pt->suite && pt->sc && pt->glare)
+			hl_pipeline_set_frame_hook(r->pipe, hl_suite_live_frame, pt->suite);
 	}
 	if (rc == 0 && pt->verdicts) {
 		rc = hl_verdict_records_new(pt->verdicts, &r->records);
@@ -274,6 +276,7 @@ static int setup_outputs(struct hl_live_render *r)
 		.restbus = pt->restbus,
 		.loop = pt->loop,
 		.ecu = pt->ecu,
+		.suite = pt->suite,
 	};
 	struct hl_capture_queue_config cq = {
 		.dir = r->cfg.capture_dir,

@@ -20,6 +20,7 @@
 #include "daemon/live_ecu.h"
 #include "daemon/core/config.h"
 #include "daemon/core/glare_live.h"
+#include "daemon/core/suite_live.h"
 #include "daemon/core/ring.h"
 #include "daemon/core/verdicts.h"
 #include "daemon/loop/loop_latency.h"
@@ -47,6 +48,7 @@ struct hl_live_render_parts {
 	struct hl_restbus *restbus; /* NULL: none */
 	struct hl_loop_latency *loop; /* NULL: none; published frames are handed to it */
 	struct hl_live_ecu *ecu; /* NULL: none (an ECU outside); its part of /status */
+	struct hl_suite_live *suite; /* NULL: none; measured on every frame, its part of /status */
 };
 
 struct hl_live_render;

@@ -43,6 +43,8 @@ static const double render_s_bounds[] = { 0.001, 0.002, 0.005, 0.010, 0.020, 0.0
 
 struct hl_pipeline {
 	struct hl_config cfg;
+	hl_pipeline_frame_fn frame_fn; /* NULL: none */
+	void *frame_ctx;
 	struct hl_lid *lids[HL_FRAME_MAX_LAMPS];
 	struct hl_source_scale *scales[HL_FRAME_MAX_LAMPS]; /* n_sources each */
 	int n_lamps;
@@ -572,6 +574,12 @@ static void render(struct hl_pipeline *p)
 			hl_glare_live_eval(p->glare, &p->world, p->world_source, dist,
 					   p->c.frames + 1, f);
 			f->t_pose_rx_ns = p->world_pose_rx_ns;
+			if (p->frame_fn) {
+				const struct hl_lid_grid *grids[2] = { hl_renderer_grid(p->r, 0),
+								       hl_renderer_grid(p->r, 1) };
+
+				p->frame_fn(p->frame_ctx, p->sc, &p->world, grids, dist);
+			}
 		}
 		if (p->verdicts) {
 			verdict_ms = check(p, f, peaks);
@@ -732,6 +740,12 @@ void hl_pipeline_set_records(struct hl_pipeline *p, struct hl_verdict_records *r
 struct hl_verdict_records *hl_pipeline_records(const struct hl_pipeline *p)
 {
 	return p->records;
+}
+
+void hl_pipeline_set_frame_hook(struct hl_pipeline *p, hl_pipeline_frame_fn fn, void *ctx)
+{
+	p->frame_fn = fn;
+	p->frame_ctx = ctx;
 }
 
 void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,

@@ -98,6 +98,20 @@ struct hl_verdict_records *hl_pipeline_records(const struct hl_pipeline *p);
 void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
 			   struct hl_glare_live *glare, struct hl_pose_input *pose);
 
+struct hl_lid_grid;
+struct hl_world_state;
+/* Called on the render thread for every published frame of a moving scene with two lamps. */
+typedef void (*hl_pipeline_frame_fn)(void *ctx, const struct hl_scenario *sc,
+				     const struct hl_world_state *w,
+				     const struct hl_lid_grid *const grids[2],
+				     const float *const dist[2]);
+/*
+ * Before start, after hl_pipeline_set_scene: fn(ctx, ...) with each published frame's world
+ * state and its lamps' distributions, after its glare (a suite's photometers,
+ * daemon/core/suite_live.h). It must take microseconds, not milliseconds.
+ */
+void hl_pipeline_set_frame_hook(struct hl_pipeline *p, hl_pipeline_frame_fn fn, void *ctx);
+
 /*
  * Test-only fault, before start: after after_frames frames the render thread hangs (stops
  * rendering and calling the alive hook) until stopped, as a stuck renderer would; the systemd

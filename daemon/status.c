@@ -366,6 +366,7 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 	if (s->restbus)
 		hl_restbus_status_json(s->restbus, f);
 	hl_live_ecu_status_json(s->ecu, f); /* nothing without one */
+	hl_suite_live_status_json(s->suite, f);
 	if (s->loop)
 		hl_loop_latency_status_json(s->loop, f);
 	fputc('}', f);
@@ -471,5 +472,6 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 		hl_restbus_metrics(s->restbus, &p);
 	if (s->loop)
 		hl_loop_latency_metrics(s->loop, &p);
+	hl_suite_live_metrics(s->suite, &p);
 	return hl_prom_end(&p);
 }

@@ -21,6 +21,7 @@
 #include "daemon/core/config.h"
 #include "daemon/core/frame_pool.h"
 #include "daemon/core/glare_live.h"
+#include "daemon/core/suite_live.h"
 #include "daemon/out/gpio.h"
 #include "daemon/out/http.h"
 #include "daemon/pipeline.h"
@@ -51,6 +52,7 @@ struct hl_status_sources {
 	struct hl_restbus *restbus; /* "restbus" in the JSON, hdlamp_restbus_* in the metrics */
 	struct hl_loop_latency *loop; /* "loop" in the JSON, hdlamp_loop_* in the metrics */
 	struct hl_live_ecu *ecu; /* ecu.model: "ecu" in the JSON */
+	struct hl_suite_live *suite; /* hdlampd --suite: "suite" in the JSON, hdlamp_suite_* */
 };
 
 struct hl_status;

@@ -10,8 +10,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "commands.h"
+#include "base/share_dir.h"
 #include "daemon/core/config.h"
 #include "ecu/node.h"
 #include "tools/suite_run.h"
@@ -22,7 +24,8 @@ static void usage(FILE *f)
 {
 	fputs("usage: hdlamp suite list\n"
 	      "       hdlamp suite show NAME|FILE.json\n"
-	      "       hdlamp suite run NAME|FILE.json [--ecu reference|FILE.fmu | --preset NAME]\n"
+	      "       hdlamp suite run NAME|FILE.json [--ecu reference|FILE.fmu | --preset NAME |\n"
+	      "                        --can IFACE]\n"
 	      "                        [--fault F]... [--only ID] [--samples N] [--out DIR]\n"
 	      "                        [--config FILE] [--set SECTION.KEY=VALUE]...\n"
 	      "Runs every scenario variant of a suite (the FMVSS 108 ADB track test, the IIHS\n"
@@ -31,7 +34,8 @@ static void usage(FILE *f)
 	      "high, glarefree, bend_left, bend_right or a preset file; no ECU, no bus). --only: one\n"
 	      "scenario or variant id; --samples N: N points of each speed and radius range (default\n"
 	      "2: both ends). Writes DIR (default suite-NAME) /report.json, junit.xml, index.html,\n"
-	      "plots/, scenarios/, traces/.\n"
+	      "plots/, scenarios/, traces/. --can IFACE: in real time against the ECU on IFACE\n"
+	      "(hdlampd --suite NAME --can IFACE --restbus IFACE runs it, with --config and --set).\n"
 	      "Exit: 0 every test held, 3 one failed, 2 bad input, 1 an output could not be written.\n",
 	      f);
 }
@@ -160,6 +164,51 @@ static int cmd_show(const char *arg)
 	return 0;
 }
 
+/*
+ * --can IFACE: hdlampd --suite in real time (daemon/live_suite.h), with this command's --config
+ * and --set; hdlampd beside this binary (installed) or in the build tree's daemon/.
+ */
+static int run_can(int argc, char **argv, const char *suite, const char *can, const char *out,
+		   const char *only)
+{
+	char exe[4096];
+	char *args[2 * 64 + 16];
+	int n = 0;
+
+	if (hl_exe_relative("hdlampd", exe, sizeof(exe)) < 0 || access(exe, X_OK) < 0) {
+		if (hl_exe_relative("../daemon/hdlampd", exe, sizeof(exe)) < 0 ||
+		    access(exe, X_OK) < 0) {
+			fprintf(stderr, "hdlamp suite: --can: cannot find hdlampd beside hdlamp\n");
+			return 1;
+		}
+	}
+	args[n++] = exe;
+	args[n++] = "--suite";
+	args[n++] = (char *)suite;
+	args[n++] = "--can";
+	args[n++] = (char *)can;
+	args[n++] = "--restbus";
+	args[n++] = (char *)can;
+	if (out) {
+		args[n++] = "--suite-out";
+		args[n++] = (char *)out;
+	}
+	if (only) {
+		args[n++] = "--suite-only";
+		args[n++] = (char *)only;
+	}
+	for (int i = 1; i + 1 < argc && n < (int)(sizeof(args) / sizeof(args[0])) - 3; i++)
+		if (!strcmp(argv[i], "--config") || !strcmp(argv[i], "--set")) {
+			args[n++] = argv[i];
+			args[n++] = argv[++i];
+		}
+	args[n] = NULL;
+	fflush(NULL);
+	execv(exe, args);
+	fprintf(stderr, "hdlamp suite: --can: '%s': %s\n", exe, strerror(errno));
+	return 1;
+}
+
 static int bad(const char *opt, const char *arg, const char *expected)
 {
 	fprintf(stderr, "hdlamp suite: %s '%s': expected %s\n", opt, arg, expected);
@@ -170,6 +219,7 @@ static int cmd_run(int argc, char **argv)
 {
 	static const struct option long_opts[] = {
 		{ "ecu", required_argument, NULL, 'e' },
+		{ "can", required_argument, NULL, 'C' },
 		{ "preset", required_argument, NULL, 'p' },
 		{ "fault", required_argument, NULL, 'f' },
 		{ "only", required_argument, NULL, 'o' },
@@ -185,6 +235,7 @@ static int cmd_run(int argc, char **argv)
 	struct hl_config_error cerr;
 	struct hl_suite *s = NULL;
 	char faults[256] = "", out[4096];
+	const char *can = NULL;
 	bool ecu_given = false;
 	int c, rc = 0;
 
@@ -210,6 +261,9 @@ static int cmd_run(int argc, char **argv)
 			break;
 		case 'p':
 			o.preset = optarg;
+			break;
+		case 'C':
+			can = optarg;
 			break;
 		case 'f': {
 			struct hl_ecu_node_config nc = { .late_ms = o.sil.late_ms,
@@ -268,6 +322,16 @@ static int cmd_run(int argc, char **argv)
 		fprintf(stderr, "hdlamp suite: --preset holds a beam with no ECU: it takes neither "
 				"--ecu nor --fault\n");
 		rc = 2;
+	}
+	if (rc == 0 && can && (o.preset || ecu_given || faults[0] || o.samples != 2)) {
+		fprintf(stderr,
+			"hdlamp suite: --can runs the ECU on the interface in real time: not "
+			"with --preset, --ecu, --fault or --samples\n");
+		rc = 2;
+	}
+	if (rc == 0 && can) {
+		free(cfg);
+		return run_can(argc, argv, argv[optind], can, o.out, o.only);
 	}
 	if (rc == 0)
 		rc = load(argv[optind], &s);

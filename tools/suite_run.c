@@ -14,6 +14,7 @@
 #include "tools/preset_arg.h"
 #include "verdict/regulation.h"
 #include "verdict/suite_measure.h"
+#include "verdict/suite_plan.h"
 #include "verdict/suite_report.h"
 #include "verdict/suite_scenario.h"
 #include "world/world.h"
@@ -33,20 +34,6 @@ static void say(const struct run *r, const char *fmt, const char *a, const char 
 	fprintf(r->o->log, "hdlamp suite: ");
 	fprintf(r->o->log, fmt, a, b);
 	fputc('\n', r->o->log);
-}
-
-static int write_text(const char *path, const char *text)
-{
-	FILE *f = fopen(path, "we");
-	int rc = 0;
-
-	if (!f)
-		return -errno;
-	if (fputs(text, f) == EOF)
-		rc = -EIO;
-	if (fclose(f) != 0 && rc == 0)
-		rc = -errno;
-	return rc;
 }
 
 /* The lamps, once for every run (building the HD84 model takes longer than a run). 0 or -errno
@@ -123,43 +110,26 @@ static void run_preset(struct run *r, const struct hl_scenario *sc, struct hl_su
 }
 
 /* One variant: its scenario written, run, measured, judged, plotted. 0, or -errno to stop. */
-static int run_variant(struct run *r, const struct hl_suite_scenario *d, int k,
-		       struct hl_suite_variant *v)
+static int run_variant(struct run *r, struct hl_suite_variant *v)
 {
 	const struct hl_suite_run_options *o = r->o;
+	const struct hl_suite_scenario *d = &o->suite->scenario[v->scenario_index];
 	struct hl_suite_measure *m = NULL;
-	char path[4096], msg[1024] = "", *text = NULL;
+	char path[4096], msg[1024] = "";
 	struct hl_scenario *sc = NULL;
 	struct hl_json_error jerr;
 	int rc;
 
-	hl_suite_variant_params(d, o->samples, k, &v->speed_mph, &v->radius_m, v->id,
-				sizeof(v->id));
-	snprintf(v->scenario_id, sizeof(v->scenario_id), "%s", d->id);
-	v->road = d->road;
-	v->range_m[0] = d->range_m[0];
-	v->range_m[1] = d->range_m[1];
-	rc = hl_suite_variant_scenario(o->suite, d, v->speed_mph, v->radius_m, &text, msg,
-				       sizeof(msg));
+	rc = hl_suite_plan_scenario(o->suite, v, o->out, path, sizeof(path), msg, sizeof(msg));
 	if (rc < 0) {
 		say(r, "%s: %s", v->id, msg);
-		return rc == -ENOMEM ? rc : -EINVAL;
-	}
-	snprintf(v->scenario_file, sizeof(v->scenario_file), "scenarios/%s.json", v->id);
-	snprintf(v->plot_file, sizeof(v->plot_file), "plots/%s.svg", v->id);
-	snprintf(path, sizeof(path), "%s/%s", o->out, v->scenario_file);
-	rc = write_text(path, text);
-	free(text);
-	if (rc < 0) {
-		say(r, "'%s': %s", path, strerror(-rc));
-		return rc;
+		return rc == -ENOMEM ? rc : rc == -EINVAL ? -EINVAL : -EIO;
 	}
 	rc = hl_scenario_read(path, &sc, &jerr);
 	if (rc < 0) {
 		say(r, "%s%s", hl_json_error_format(&jerr, msg, sizeof(msg)), "");
 		return rc;
 	}
-	snprintf(v->title, sizeof(v->title), "%s", sc->title);
 	rc = hl_suite_measure_new(o->suite, d, r->reg, v, &m);
 	if (rc < 0) {
 		hl_scenario_free(sc);
@@ -211,16 +181,9 @@ static int run_variant(struct run *r, const struct hl_suite_scenario *d, int k,
 	rc = hl_suite_measure_finish(m);
 	if (rc < 0)
 		goto out;
-	snprintf(path, sizeof(path), "%s/%s", o->out, v->plot_file);
-	{
-		FILE *f = fopen(path, "we");
-
-		if (!f || hl_suite_plot_svg(&r->res, v, f) < 0)
-			rc = -EIO;
-		if (f && fclose(f) != 0)
-			rc = -EIO;
-		if (rc < 0)
-			say(r, "'%s': cannot write the plot%s", path, "");
+	if (hl_suite_plan_plot(&r->res, v, o->out) < 0) {
+		say(r, "'%s/%s': cannot write the plot", o->out, v->plot_file);
+		rc = -EIO;
 	}
 out:
 	hl_suite_measure_free(m);
@@ -231,20 +194,13 @@ out:
 static int prepare(struct run *r)
 {
 	const struct hl_suite_run_options *o = r->o;
-	static const char *const sub[] = { "", "/scenarios", "/plots", "/traces" };
-	char p[4096];
+	char msg[1024];
 	int rc;
 
-	for (size_t i = 0; i < sizeof(sub) / sizeof(sub[0]); i++) {
-		if (!o->preset || strcmp(sub[i], "/traces")) {
-			snprintf(p, sizeof(p), "%s%s", o->out, sub[i]);
-			rc = hl_make_dirs(p);
-			if (rc < 0) {
-				say(r, "--out '%s': cannot make the directory: %s", p,
-				    strerror(-rc));
-				return rc;
-			}
-		}
+	rc = hl_suite_plan_dirs(o->out, !o->preset, msg, sizeof(msg));
+	if (rc < 0) {
+		say(r, "--out %s%s", msg, "");
+		return rc;
 	}
 	if (o->suite->procedure == HL_SUITE_R149_ADB) {
 		struct hl_regulation_error err;
@@ -270,18 +226,12 @@ static int prepare(struct run *r)
 	return rc;
 }
 
-static bool selected(const struct hl_suite_run_options *o, const struct hl_suite_scenario *d,
-		     const char *variant_id)
-{
-	return !o->only || !strcmp(o->only, d->id) || (variant_id && !strcmp(o->only, variant_id));
-}
-
 int hl_suite_run(const struct hl_suite_run_options *o)
 {
 	const struct hl_suite *s = o->suite;
 	struct run r = { .o = o };
-	char path[4096];
-	int rc = 0, code, total = 0;
+	char msg[1024];
+	int rc = 0, code;
 
 	r.res.suite = s;
 	if (o->preset) {
@@ -291,54 +241,27 @@ int hl_suite_run(const struct hl_suite_run_options *o)
 		snprintf(r.res.fault, sizeof(r.res.fault), "%s",
 			 o->fault_text ? o->fault_text : "");
 	}
-	rc = prepare(&r);
-	for (int i = 0; rc == 0 && i < s->n_scenarios; i++) {
-		const struct hl_suite_scenario *d = &s->scenario[i];
+	rc = hl_suite_plan(s, o->only, o->samples, &r.res, msg, sizeof(msg));
+	if (rc < 0)
+		say(&r, "%s%s", msg, "");
+	else
+		rc = prepare(&r);
+	for (int i = 0; rc == 0 && i < r.res.n_variants; i++) {
+		struct hl_suite_variant *v = &r.res.v[i];
 
-		for (int k = 0; k < hl_suite_variant_count(d, o->samples); k++) {
-			double sp, rad;
-			char id[96];
+		rc = run_variant(&r, v);
+		if (rc == 0) {
+			struct hl_suite_totals t;
+			struct hl_suite_result one = r.res;
 
-			hl_suite_variant_params(d, o->samples, k, &sp, &rad, id, sizeof(id));
-			total += selected(o, d, id);
-		}
-	}
-	if (rc == 0 && total == 0) {
-		say(&r, "--only '%s': no scenario or variant of %s has that id",
-		    o->only ? o->only : "", s->name);
-		rc = -EINVAL;
-	}
-	if (rc == 0) {
-		r.res.v = calloc((size_t)total, sizeof(*r.res.v));
-		if (!r.res.v)
-			rc = -ENOMEM;
-	}
-	for (int i = 0; rc == 0 && i < s->n_scenarios; i++) {
-		const struct hl_suite_scenario *d = &s->scenario[i];
-
-		for (int k = 0; rc == 0 && k < hl_suite_variant_count(d, o->samples); k++) {
-			struct hl_suite_variant *v = &r.res.v[r.res.n_variants];
-			double sp, rad;
-			char id[96];
-
-			hl_suite_variant_params(d, o->samples, k, &sp, &rad, id, sizeof(id));
-			if (!selected(o, d, id))
-				continue;
-			r.res.n_variants++;
-			rc = run_variant(&r, d, k, v);
-			if (rc == 0) {
-				struct hl_suite_totals t;
-				struct hl_suite_result one = r.res;
-
-				one.v = v;
-				one.n_variants = 1;
-				hl_suite_result_totals(&one, &t);
-				fprintf(o->log,
-					"hdlamp suite: %s: %d frames, %d cases judged, %d failed%s%s\n",
-					v->id, v->n_frames, t.judged, t.failed,
-					t.no_samples ? ", bins not reached" : "",
-					v->error[0] ? ", the run did not finish" : "");
-			}
+			one.v = v;
+			one.n_variants = 1;
+			hl_suite_result_totals(&one, &t);
+			fprintf(o->log,
+				"hdlamp suite: %s: %d frames, %d cases judged, %d failed%s%s\n",
+				v->id, v->n_frames, t.judged, t.failed,
+				t.no_samples ? ", bins not reached" : "",
+				v->error[0] ? ", the run did not finish" : "");
 		}
 	}
 	code = rc == -ENOMEM || rc == -EIO    ? 1 :
@@ -346,19 +269,9 @@ int hl_suite_run(const struct hl_suite_run_options *o)
 	       hl_suite_result_passed(&r.res) ? 0 :
 						3;
 	if (rc == 0) {
-		static const char *const names[] = { "report.json", "junit.xml", "index.html" };
-
-		for (int i = 0; i < 3; i++) {
-			int wr;
-
-			snprintf(path, sizeof(path), "%s/%s", o->out, names[i]);
-			wr = i == 0 ? hl_suite_report_write(&r.res, path) :
-			     i == 1 ? hl_suite_junit_write(&r.res, path) :
-				      hl_suite_html_write(&r.res, path);
-			if (wr < 0) {
-				say(&r, "'%s': %s", path, strerror(-wr));
-				code = 1;
-			}
+		if (hl_suite_plan_write(&r.res, o->out, msg, sizeof(msg)) < 0) {
+			say(&r, "%s%s", msg, "");
+			code = 1;
 		}
 		{
 			struct hl_suite_totals t;

@@ -21,6 +21,8 @@ struct hl_suite_measure {
 	struct hl_glare_result gr[HL_SCN_MAX_ACTORS];
 	int series_of[HL_SUITE_MAX_PHOTOMETERS]; /* photometer -> series, -1 none */
 	int err;
+	bool last_valid[HL_SUITE_MAX_SERIES];
+	double last_range_m[HL_SUITE_MAX_SERIES], last_lx[HL_SUITE_MAX_SERIES];
 	/* iihs: the last frame's figures */
 	bool iihs_valid;
 	double vis_m[2], glare_max_lx, glare_at_m, iihs_t_s;
@@ -87,10 +89,32 @@ int hl_suite_measure_new(const struct hl_suite *s, const struct hl_suite_scenari
 	return 0;
 }
 
+/* The newest reading of a series (IIHS: its highest of the frame). */
+static void newest(struct hl_suite_measure *m, int series, double x, double lx, bool highest)
+{
+	if (series < 0 || series >= HL_SUITE_MAX_SERIES)
+		return;
+	if (!highest || !m->last_valid[series] || lx > m->last_lx[series]) {
+		m->last_range_m[series] = x;
+		m->last_lx[series] = lx;
+	}
+	m->last_valid[series] = true;
+}
+
 static void keep(struct hl_suite_measure *m, int series, double x, double lx, double t)
 {
 	if (series >= 0 && hl_suite_series_add(&m->v->series[series], x, lx, t) < 0)
 		m->err = -ENOMEM;
+}
+
+bool hl_suite_measure_last(const struct hl_suite_measure *m, int series, double *ret_range_m,
+			   double *ret_lx)
+{
+	if (series < 0 || series >= HL_SUITE_MAX_SERIES || !m->last_valid[series])
+		return false;
+	*ret_range_m = m->last_range_m[series];
+	*ret_lx = m->last_lx[series];
+	return true;
 }
 
 static void fmvss_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
@@ -110,6 +134,7 @@ static void fmvss_frame(struct hl_suite_measure *m, const struct hl_scenario *sc
 		hl_photometer_place(&w->actor[0], s->photometer[p].pos_m, s->photometer[p].normal,
 				    pt, n);
 		hl_photometer_read(lamps, grids, dist, pt, n, &rd);
+		newest(m, m->series_of[p], rd.range_m, rd.illuminance_lx, false);
 		if (rd.range_m >= m->v->range_m[0] - 1e-9 && rd.range_m <= m->v->range_m[1] + 1e-9)
 			keep(m, m->series_of[p], rd.range_m, rd.illuminance_lx, w->t_s);
 		hl_suite_fmvss_sample(s, m->v, p, rd.range_m, rd.illuminance_lx, w->t_s);
@@ -129,6 +154,7 @@ static void r149_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 	if (!m->glare || sc->n_actors < 1 || w->n_actors < 1)
 		return;
 	hl_glare_eval_world(m->glare, w, dist, m->gr);
+	newest(m, 0, m->gr[0].distance_m, m->gr[0].illuminance_lx, false);
 	if (m->gr[0].distance_m >= m->v->range_m[0] - 1e-9 &&
 	    m->gr[0].distance_m <= m->v->range_m[1] + 1e-9)
 		keep(m, 0, m->gr[0].distance_m, m->gr[0].illuminance_lx, w->t_s);
@@ -174,8 +200,10 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 		}
 	}
 	/* the last frame is the one reported: the series start over */
-	for (int k = 0; k < 3; k++)
+	for (int k = 0; k < 3; k++) {
 		v->series[k].n = 0;
+		m->last_valid[k] = false;
+	}
 	b->n = n;
 	b->ego[0] = w->ego.pos_m[0];
 	b->ego[1] = w->ego.pos_m[1];
@@ -198,6 +226,7 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 			prev[1] = p[1];
 			lx = facing(lamps, grids, dist, p);
 			keep(m, side, along, lx, w->t_s);
+			newest(m, side, along, lx, true);
 			if (lx >= s->visibility_lx) {
 				m->vis_m[side] = along;
 				b->vis_at[side][0] = p[0];
@@ -216,6 +245,7 @@ static void iihs_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 		p[2] = s->glare_height_m;
 		lx = facing(lamps, grids, dist, p);
 		keep(m, 2, x, lx, w->t_s);
+		newest(m, 2, x, lx, true);
 		if (lx > m->glare_max_lx) {
 			m->glare_max_lx = lx;
 			m->glare_at_m = x;

@@ -38,6 +38,12 @@ int hl_suite_measure_new(const struct hl_suite *s, const struct hl_suite_scenari
 void hl_suite_measure_frame(struct hl_suite_measure *m, const struct hl_scenario *sc,
 			    const struct hl_world_state *w,
 			    const struct hl_lid_grid *const grids[2], const float *const dist[2]);
+/*
+ * Series i's newest reading (the frame last measured): its range (m; IIHS: the distance of the
+ * highest reading) and value (lx). false before one.
+ */
+bool hl_suite_measure_last(const struct hl_suite_measure *m, int series, double *ret_range_m,
+			   double *ret_lx);
 /* Ends it: the cases judged (verdict/suite_judge.h). 0, or -ENOMEM if a frame could not be kept. */
 int hl_suite_measure_finish(struct hl_suite_measure *m);
 void hl_suite_measure_free(struct hl_suite_measure *m);

@@ -59,6 +59,7 @@ struct hl_suite_birdseye {
 struct hl_suite_variant {
 	char id[96]; /* "oncoming-left-25mph-85m" */
 	char scenario_id[HL_SUITE_ID_MAX]; /* the suite's scenario it comes from */
+	int scenario_index, variant_index; /* in suite->scenario[], in its variants */
 	char title[HL_SUITE_TEXT_MAX];
 	enum hl_suite_road road;
 	double speed_mph, radius_m; /* radius 0 on a straight */

@@ -48,6 +48,15 @@ void hl_suite_variant_params(const struct hl_suite_scenario *d, int samples, int
 		snprintf(ret_id, id_size, "%s-%gmph-r%gm", d->id, *ret_speed_mph, *ret_radius_m);
 }
 
+void hl_suite_variant_title(const struct hl_suite_scenario *d, double speed_mph, double radius_m,
+			    char *buf, size_t size)
+{
+	if (d->road == HL_SUITE_STRAIGHT)
+		snprintf(buf, size, "%s at %g mph", d->title, speed_mph);
+	else
+		snprintf(buf, size, "%s at %g mph, radius %g m", d->title, speed_mph, radius_m);
+}
+
 /* The JSON text for a stimulus vehicle gap_m ahead (centre-line s) and a duration. */
 static char *write_json(const struct hl_suite_scenario *d, double speed_mph, double radius_m,
 			double gap_m, double duration_s)
@@ -60,11 +69,7 @@ static char *write_json(const struct hl_suite_scenario *d, double speed_mph, dou
 
 	if (!f)
 		return NULL;
-	if (d->road == HL_SUITE_STRAIGHT)
-		snprintf(title, sizeof(title), "%s at %g mph", d->title, speed_mph);
-	else
-		snprintf(title, sizeof(title), "%s at %g mph, radius %g m", d->title, speed_mph,
-			 radius_m);
+	hl_suite_variant_title(d, speed_mph, radius_m, title, sizeof(title));
 	fprintf(f, "{\n  \"version\": 1,\n  \"title\": ");
 	hl_json_write_str(f, title);
 	fprintf(f, ",\n  \"duration_s\": %.3f,\n  \"road\": {\n    \"segments\": [\n", duration_s);

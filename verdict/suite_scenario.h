@@ -31,6 +31,10 @@ void hl_suite_variant_params(const struct hl_suite_scenario *d, int samples, int
 			     double *ret_speed_mph, double *ret_radius_m, char *ret_id,
 			     size_t id_size);
 
+/* The variant's title: the scenario's with its speed (and radius). */
+void hl_suite_variant_title(const struct hl_suite_scenario *d, double speed_mph, double radius_m,
+			    char *buf, size_t size);
+
 /*
  * The variant's scenario as JSON text (*ret malloc'd). 0, -ENOMEM, -EINVAL (the geometry
  * cannot give the measured range: msg says why; a generated file refused by the reader is
