@@ -170,6 +170,10 @@ int hl_suite_variant_scenario(const struct hl_suite *s, const struct hl_suite_sc
 	for (tries = 0; tries < 400; tries++, gap += 2.0) {
 		double lo, hi;
 
+		/* on a curve the stimulus vehicle stands on the arc, not on the road after it */
+		if (d->road != HL_SUITE_STRAIGHT && gap > 1.9 * M_PI * radius_m - 50.0)
+			break;
+
 		text = write_json(d, speed_mph, radius_m, gap, 1.0);
 		if (!text)
 			return -ENOMEM;
