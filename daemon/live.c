@@ -227,7 +227,7 @@ static int setup(struct live *lv)
 	int rc, n_src;
 
 	/* ecu.model: the virtual bus first, so that the CAN input and the restbus open it */
-	rc = hl_live_ecu_new(&lv->cfg, &lv->ecu, &lv->config_error);
+	rc = hl_live_ecu_new(&lv->cfg, lv->args->trace, &lv->ecu, &lv->config_error);
 	if (rc < 0)
 		return rc;
 	if (lv->ecu) {

@@ -25,6 +25,7 @@ struct hl_live_args {
 	bool print_cycles; /* decode only: a line per complete lamp cycle */
 	struct hl_suite_live *suite; /* hdlampd --suite: measures every frame; NULL: none */
 	const char **ret_end; /* NULL, or where the run's end goes ("scenario_end", "signal", ...) */
+	const char *trace; /* ecu.model: the virtual bus traced to this .log or .blf; NULL: not */
 };
 
 int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args);

@@ -35,7 +35,8 @@ struct hl_live_ecu {
 	char error[512];
 };
 
-int hl_live_ecu_new(const struct hl_config *cfg, struct hl_live_ecu **ret, bool *ret_config_error)
+int hl_live_ecu_new(const struct hl_config *cfg, const char *trace, struct hl_live_ecu **ret,
+		    bool *ret_config_error)
 {
 	const struct hl_vbus_config bc = { .name = HL_CONFIG_VBUS };
 	struct hl_live_ecu *le;
@@ -67,6 +68,15 @@ int hl_live_ecu_new(const struct hl_config *cfg, struct hl_live_ecu **ret, bool 
 		hl_live_log("the virtual bus %s: %s", HL_CONFIG_VBUS, strerror(-rc));
 		hl_live_ecu_free(le);
 		return rc;
+	}
+	if (trace) { /* candump -L times: CLOCK_MONOTONIC seconds, the bus's own clock */
+		rc = hl_vbus_trace(le->bus, trace, 0);
+		if (rc < 0) {
+			hl_live_log("the virtual bus %s: trace '%s': %s", HL_CONFIG_VBUS, trace,
+				    strerror(-rc));
+			hl_live_ecu_free(le);
+			return rc;
+		}
 	}
 	*ret = le;
 	return 0;

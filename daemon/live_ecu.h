@@ -24,7 +24,8 @@ struct hl_live_ecu;
  * With ecu.model set: the bus, registered (before anything opens HL_CONFIG_VBUS). *ret NULL
  * without. 0 or -errno, logged; *ret_config_error for a fault of the configuration.
  */
-int hl_live_ecu_new(const struct hl_config *cfg, struct hl_live_ecu **ret, bool *ret_config_error);
+int hl_live_ecu_new(const struct hl_config *cfg, const char *trace, struct hl_live_ecu **ret,
+		    bool *ret_config_error);
 /*
  * The ECU's node on the bus for the lamps (their LIDs and the lamp database's assembler a) and
  * the input database (restbus.dbc or the shipped one), started: its first step now. 0 or -errno,

@@ -70,7 +70,7 @@ static int run_variant(const struct hl_config *base, const struct hl_live_args *
 	struct hl_config *cfg = malloc(sizeof(*cfg));
 	struct hl_live_args a = *args;
 	const char *end = "setup_error";
-	char path[4096], msg[1024];
+	char path[4096], msg[1024], trace[4096];
 	int rc, code;
 
 	if (!cfg)
@@ -98,6 +98,11 @@ static int run_variant(const struct hl_config *base, const struct hl_live_args *
 	hl_live_log("suite %s: variant %d of %d: %s", r->suite->name, i + 1, r->n_variants, v->id);
 	a.suite = sl;
 	a.ret_end = &end;
+	if (cfg->ecu_model[0]) { /* the virtual bus is ours to trace; a CAN interface is not */
+		snprintf(v->trace_file, sizeof(v->trace_file), "traces/%s.log", v->id);
+		snprintf(trace, sizeof(trace), "%.3900s/%s", out, v->trace_file);
+		a.trace = trace;
+	}
 	code = hl_live_run(cfg, &a);
 	rc = hl_suite_live_end(sl);
 	v->exit_code = code == 3 ? 0 : code; /* 3: the loop's own verdict, not the suite's */
@@ -144,7 +149,7 @@ int hl_live_suite_run(const struct hl_config *cfg, const struct hl_live_args *ar
 		 cfg->ecu_model[0] ? cfg->ecu_model : cfg->interface);
 	snprintf(r.fault, sizeof(r.fault), "%s", cfg->ecu_faults);
 	snprintf(runs, sizeof(runs), "%s/runs", out);
-	rc = hl_suite_plan_dirs(out, false, msg, sizeof(msg));
+	rc = hl_suite_plan_dirs(out, cfg->ecu_model[0] != '\0', msg, sizeof(msg));
 	if (rc == 0) {
 		rc = hl_make_dirs(runs);
 		if (rc < 0)

@@ -6,7 +6,7 @@
  * /metrics, the live page), against the ECU in process (ecu.model) or the ECU on a CAN
  * interface (can.interface and restbus.interface); each run's report in DIR/runs/ID.json, and
  * at the end DIR/report.json, junit.xml, index.html and the plots, as hdlamp suite run writes
- * them. A signal stops the variant running and the suite: the variants not run are errors.
+ * them; with ecu.model the virtual bus of each run traced to DIR/traces/ID.log. A signal stops the variant running and the suite: the variants not run are errors.
  */
 #ifndef HL_DAEMON_LIVE_SUITE_H
 #define HL_DAEMON_LIVE_SUITE_H

@@ -99,6 +99,11 @@ def test_live_suite_shows_its_photometers_and_agrees_with_sil(hdlamp, hd84, tmp_
     assert (tmp_path / "live" / "runs" / f"{VARIANT}.json").exists()
     assert (tmp_path / "live" / "index.html").exists()
     assert (tmp_path / "live" / v["plot_file"]).exists()
+    # the virtual bus of the run, as candump -L: the restbus's inputs and the ECU's pages
+    assert v["trace_file"] == f"traces/{VARIANT}.log"
+    ids = {line.split()[2].split("#")[0] for line in
+           (tmp_path / "live" / v["trace_file"]).read_text().splitlines()}
+    assert {"110", "121", "122", "320", "321"} <= ids, ids
     # the same variant in virtual time: the same pass or fail in every bin
     r = subprocess.run([hdlamp, "suite", "run", "fmvss108-adb", "--only", VARIANT, "--out",
                         str(tmp_path / "sil")], capture_output=True, text=True, timeout=300)
