@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A photometer (docs/lab.md, docs/design.md §10): a point with a plane normal on a road user (or
+ * A photometer (docs/lab.md, "How a bin is judged"): a point with a plane normal on a road user (or
  * anywhere in the world), measuring the illuminance the ego vehicle's two lamps give on its
  * plane, E = sum_l I_l cos(theta_l) / r_l^2, where I_l is the lamp's intensity toward the point
  * (a point lookup of its distribution, bilinear as hl_lid_grid_lookup(), negative rounding

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A suite run's machine-readable results (docs/lab.md "Results"): report.json — the suite, the
+ * A suite run's machine-readable results (docs/lab.md "What a run writes"): report.json — the suite, the
  * ECU or preset, the documented defaults used, and per variant its scenario, exit, every case
  * (bin, photometer, samples, the maximum as measured and as judged, the limit, the margin, where
  * the maximum occurred, the source) — and junit.xml: one <testsuite> per variant, one

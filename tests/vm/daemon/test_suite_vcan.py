@@ -1,5 +1,5 @@
-"""The FMVSS 108 ADB suite's straight oncoming scenario in real time on vcan0 (docs/lab.md "In
-real time"): `hdlamp suite run --can vcan0` (which runs hdlampd --suite with its restbus on
+"""The FMVSS 108 ADB suite's straight oncoming scenario in real time on vcan0 (docs/lab.md,
+"In real time"): `hdlamp suite run --can vcan0` (which runs hdlampd --suite with its restbus on
 vcan0) against `hdlamp ecu` on vcan0, and the same variant in virtual time (the reference ECU
 in process, hdlamp suite run): every bin passes or fails alike — with the ECU as it is and with
 it ignoring objects.
