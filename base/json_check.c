@@ -600,3 +600,51 @@ int hl_json_get_vec3(const struct hl_json_ctx *c, const char *path, const struct
 			return -EBADMSG;
 	return 0;
 }
+
+int hl_json_parse_struct(const char *text, const char *name, size_t size,
+			 hl_json_struct_fn parse_root, void **ret, struct hl_json_error *err)
+{
+	struct hl_json_ctx c = { .name = name, .err = err };
+	struct hl_json_loc *loc = NULL;
+	json_t *root = NULL;
+	void *out;
+	int rc;
+
+	rc = hl_json_parse(text, name, &root, &loc, err);
+	if (rc < 0)
+		return rc;
+	out = calloc(1, size);
+	if (!out) {
+		rc = -ENOMEM;
+		if (err)
+			snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
+		goto err_free;
+	}
+	c.loc = loc;
+	rc = parse_root(&c, root, out);
+	if (rc < 0)
+		goto err_free;
+	hl_json_loc_free(loc);
+	json_decref(root);
+	*ret = out;
+	return 0;
+
+err_free:
+	free(out);
+	hl_json_loc_free(loc);
+	json_decref(root);
+	return rc;
+}
+
+int hl_json_read_struct(const char *path, size_t size, hl_json_struct_fn parse_root, void **ret,
+			struct hl_json_error *err)
+{
+	char *text;
+	int rc = hl_json_read_file(path, &text, err);
+
+	if (rc < 0)
+		return rc;
+	rc = hl_json_parse_struct(text, path, size, parse_root, ret, err);
+	free(text);
+	return rc;
+}

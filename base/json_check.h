@@ -65,6 +65,21 @@ struct hl_json_ctx {
 	struct hl_json_error *err; /* may be NULL */
 };
 
+/* Fills out (a zeroed struct) from root; 0 or -errno (-EBADMSG with the error filled). */
+typedef int (*hl_json_struct_fn)(struct hl_json_ctx *c, struct json_t *root, void *out);
+
+/*
+ * A file format read into one struct (a scenario, a suite): text parsed as hl_json_parse does,
+ * a zeroed struct of size bytes allocated and filled by parse_root. *ret (free() it) is the
+ * caller's, untouched on failure. 0, -EBADMSG, -ENOMEM, or parse_root's -errno; err (may be
+ * NULL) says where.
+ */
+int hl_json_parse_struct(const char *text, const char *name, size_t size,
+			 hl_json_struct_fn parse_root, void **ret, struct hl_json_error *err);
+/* The same from the file path (hl_json_read_file(), then hl_json_parse_struct()). */
+int hl_json_read_struct(const char *path, size_t size, hl_json_struct_fn parse_root, void **ret,
+			struct hl_json_error *err);
+
 /* Fills the error for path (its place from the index) and returns -EBADMSG. */
 __attribute__((format(printf, 3, 4))) int hl_json_fail(const struct hl_json_ctx *c,
 						       const char *path, const char *fmt, ...);

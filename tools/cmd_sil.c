@@ -15,6 +15,7 @@
 #include "daemon/core/config.h"
 #include "ecu/node.h"
 #include "sil/sil.h"
+#include "tools/sil_args.h"
 
 static void usage(FILE *f)
 {
@@ -37,21 +38,6 @@ static int bad(const char *opt, const char *arg, const char *expected)
 {
 	fprintf(stderr, "hdlamp sil: %s '%s': expected %s\n", opt, arg, expected);
 	return 2;
-}
-
-/* A --fault: the reference ECU's and the node's, as hdlamp ecu names them (ecu/node.h). */
-static int parse_fault(const char *name, struct hl_sil_options *o)
-{
-	struct hl_ecu_node_config nc = { .late_ms = o->late_ms,
-					 .stuck_counter = o->stuck_counter,
-					 .bad_crc = o->bad_crc };
-
-	if (hl_ecu_node_fault(name, &nc, &o->ref) < 0)
-		return -EINVAL;
-	o->late_ms = nc.late_ms;
-	o->stuck_counter = nc.stuck_counter;
-	o->bad_crc = nc.bad_crc;
-	return 0;
 }
 
 static int parse_uint(const char *s, unsigned long lo, unsigned long hi, unsigned long *ret)
@@ -88,17 +74,10 @@ int hl_cmd_sil(int argc, char **argv)
 
 	if (!cfg)
 		return 1;
-	hl_config_defaults(cfg);
-	cfg->dbc[0] = '\0'; /* the shipped hd84.dbc beside the binary, wherever one runs it */
-	hl_ecu_config_default(&o.ref);
-	/* --config first, wherever it stands, so that --set overrides it */
-	for (int i = 1; i + 1 < argc; i++)
-		if (strcmp(argv[i], "--config") == 0 &&
-		    hl_config_load(cfg, argv[i + 1], &cerr) < 0) {
-			fprintf(stderr, "hdlamp sil: %s\n", cerr.msg);
-			free(cfg);
-			return 2;
-		}
+	if (hl_tool_sil_config("sil", argc, argv, cfg, &o)) {
+		free(cfg);
+		return 2;
+	}
 	rc = 0;
 	while (rc == 0 && (c = getopt_long(argc, argv, "h", long_opts, NULL)) != -1) {
 		switch (c) {
@@ -106,7 +85,7 @@ int hl_cmd_sil(int argc, char **argv)
 			o.ecu = optarg;
 			break;
 		case 'f':
-			if (parse_fault(optarg, &o) < 0)
+			if (hl_tool_sil_fault(optarg, &o) < 0)
 				rc = bad("--fault", optarg, HL_ECU_NODE_FAULTS);
 			break;
 		case 'r':

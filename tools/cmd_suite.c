@@ -16,6 +16,7 @@
 #include "base/share_dir.h"
 #include "daemon/core/config.h"
 #include "ecu/node.h"
+#include "tools/sil_args.h"
 #include "tools/suite_run.h"
 #include "verdict/suite.h"
 #include "verdict/suite_scenario.h"
@@ -241,17 +242,10 @@ static int cmd_run(int argc, char **argv)
 
 	if (!cfg)
 		return 1;
-	hl_config_defaults(cfg);
-	cfg->dbc[0] = '\0';
-	o.sil.ecu = "reference";
-	hl_ecu_config_default(&o.sil.ref);
-	for (int i = 1; i + 1 < argc; i++)
-		if (strcmp(argv[i], "--config") == 0 &&
-		    hl_config_load(cfg, argv[i + 1], &cerr) < 0) {
-			fprintf(stderr, "hdlamp suite: %s\n", cerr.msg);
-			free(cfg);
-			return 2;
-		}
+	if (hl_tool_sil_config("suite", argc, argv, cfg, &o.sil)) {
+		free(cfg);
+		return 2;
+	}
 	optind = 1;
 	while (rc == 0 && (c = getopt_long(argc, argv, "h", long_opts, NULL)) != -1) {
 		switch (c) {
@@ -265,22 +259,14 @@ static int cmd_run(int argc, char **argv)
 		case 'C':
 			can = optarg;
 			break;
-		case 'f': {
-			struct hl_ecu_node_config nc = { .late_ms = o.sil.late_ms,
-							 .stuck_counter = o.sil.stuck_counter,
-							 .bad_crc = o.sil.bad_crc };
-
-			if (hl_ecu_node_fault(optarg, &nc, &o.sil.ref) < 0) {
+		case 'f':
+			if (hl_tool_sil_fault(optarg, &o.sil) < 0) {
 				rc = bad("--fault", optarg, HL_ECU_NODE_FAULTS);
 				break;
 			}
-			o.sil.late_ms = nc.late_ms;
-			o.sil.stuck_counter = nc.stuck_counter;
-			o.sil.bad_crc = nc.bad_crc;
 			snprintf(faults + strlen(faults), sizeof(faults) - strlen(faults), "%s%s",
 				 faults[0] ? "," : "", optarg);
 			break;
-		}
 		case 'o':
 			o.only = optarg;
 			break;

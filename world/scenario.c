@@ -558,51 +558,21 @@ static int parse_root(const struct hl_json_ctx *c, const struct json_t *root,
 	return 0;
 }
 
+/* parse_root for hl_json_parse_struct() */
+static int parse_any(struct hl_json_ctx *c, json_t *root, void *out)
+{
+	return parse_root(c, root, out);
+}
+
 int hl_scenario_parse(const char *text, const char *name, struct hl_scenario **ret,
 		      struct hl_json_error *err)
 {
-	struct hl_json_ctx c = { .name = name, .err = err };
-	struct hl_json_loc *loc = NULL;
-	struct hl_scenario *sc = NULL;
-	json_t *root = NULL;
-	int rc;
-
-	rc = hl_json_parse(text, name, &root, &loc, err);
-	if (rc < 0)
-		return rc;
-	sc = calloc(1, sizeof(*sc));
-	if (!sc) {
-		rc = -ENOMEM;
-		if (err)
-			snprintf(err->msg, sizeof(err->msg), "%s", strerror(-rc));
-		goto err_free;
-	}
-	c.loc = loc;
-	rc = parse_root(&c, root, sc);
-	if (rc < 0)
-		goto err_free;
-	hl_json_loc_free(loc);
-	json_decref(root);
-	*ret = sc;
-	return 0;
-
-err_free:
-	free(sc);
-	hl_json_loc_free(loc);
-	json_decref(root);
-	return rc;
+	return hl_json_parse_struct(text, name, sizeof(**ret), parse_any, (void **)ret, err);
 }
 
 int hl_scenario_read(const char *path, struct hl_scenario **ret, struct hl_json_error *err)
 {
-	char *text;
-	int rc = hl_json_read_file(path, &text, err);
-
-	if (rc < 0)
-		return rc;
-	rc = hl_scenario_parse(text, path, ret, err);
-	free(text);
-	return rc;
+	return hl_json_read_struct(path, sizeof(**ret), parse_any, (void **)ret, err);
 }
 
 void hl_scenario_free(struct hl_scenario *sc)
