@@ -132,6 +132,8 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ NULL, 0, NULL, 0 },
 	};
 	struct hl_config_error err;
+	struct hl_config check; /* --suite: what each run will be, for the checks */
+	const struct hl_config *checked = &o->cfg;
 	char *end;
 	long v;
 	int c, rc = 0;
@@ -265,8 +267,6 @@ static int parse_options(int argc, char **argv, struct options *o)
 		return -EINVAL;
 	}
 	if (o->suite.suite) {
-		/* the suite gives every run its scenario, and each run ends with it */
-		struct hl_config check = o->cfg;
 		const char *why = o->cfg.scenario[0]	? "--scenario: the suite makes its own" :
 				  o->cfg.replay[0]	? "--replay: a suite runs in real time" :
 				  o->cfg.pose_listen[0] ? "--pose: the suite's scenarios move" :
@@ -282,23 +282,13 @@ static int parse_options(int argc, char **argv, struct options *o)
 			fprintf(stderr, "hdlampd: --suite: not with %s\n", why);
 			return -EINVAL;
 		}
+		/* the suite gives every run its scenario, and each run ends with it */
+		check = o->cfg;
 		snprintf(check.scenario, sizeof(check.scenario), "(the suite's)");
 		check.loop_exit_at_end = true;
-		if (hl_config_check(&check, &err) < 0) {
-			fprintf(stderr, "hdlampd: %s\n", err.msg);
-			return -EINVAL;
-		}
-		snprintf(o->lamps_buf, sizeof(o->lamps_buf), "%s", o->cfg.lamps);
-		for (char *save = NULL, *tok = strtok_r(o->lamps_buf, ",", &save);
-		     tok && o->n_lamps < HL_ASM_MAX_LAMPS; tok = strtok_r(NULL, ",", &save))
-			o->lamp_names[o->n_lamps++] = tok;
-		if (hl_config_check_files(&o->cfg, true, &err) < 0) {
-			fprintf(stderr, "hdlampd: %s\n", err.msg);
-			return -EINVAL;
-		}
-		return 0;
+		checked = &check;
 	}
-	if (hl_config_check(&o->cfg, &err) < 0) {
+	if (hl_config_check(checked, &err) < 0) {
 		/* the input's check says how to give one */
 		fprintf(stderr, "hdlampd: %s%s\n", err.msg,
 			strncmp(err.msg, "exactly one", 11) == 0 ?

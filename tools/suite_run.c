@@ -252,11 +252,8 @@ int hl_suite_run(const struct hl_suite_run_options *o)
 		rc = run_variant(&r, v);
 		if (rc == 0) {
 			struct hl_suite_totals t;
-			struct hl_suite_result one = r.res;
 
-			one.v = v;
-			one.n_variants = 1;
-			hl_suite_result_totals(&one, &t);
+			hl_suite_variant_totals(v, &t);
 			fprintf(o->log,
 				"hdlamp suite: %s: %d frames, %d cases judged, %d failed%s%s\n",
 				v->id, v->n_frames, t.judged, t.failed,

@@ -30,8 +30,7 @@ struct hl_glare {
 	struct row row[HL_GLARE_MAX_ROWS];
 };
 
-/* "Oncoming 50 m", "Preceding 100 m beyond": the role and the distance; -EINVAL otherwise. */
-static int parse_row_id(const char *id, enum hl_actor_role *ret_role, double *ret_distance_m)
+int hl_glare_row_id(const char *id, enum hl_actor_role *ret_role, double *ret_distance_m)
 {
 	static const struct {
 		const char *word;
@@ -79,7 +78,7 @@ int hl_glare_new(const struct hl_scenario *sc, const struct hl_regulation *reg,
 		double d;
 
 		if (q->kind != HL_REQ_SEGMENT || !q->max.set || q->max.of >= 0 ||
-		    parse_row_id(q->id, &role, &d) < 0)
+		    hl_glare_row_id(q->id, &role, &d) < 0)
 			continue;
 		if (g->n_rows == HL_GLARE_MAX_ROWS) {
 			free(g);

@@ -60,6 +60,9 @@ struct hl_glare_result {
 
 struct hl_glare;
 
+/* A row's id, "Oncoming 50 m" or "Preceding 100 m beyond": its role and distance. 0, -EINVAL. */
+int hl_glare_row_id(const char *id, enum hl_actor_role *ret_role, double *ret_distance_m);
+
 /*
  * Plans the glare of sc's road users under reg for two lamps on grids[0] (left), grids[1]
  * (right); sc, reg and the grids must outlive the plan. 0, -EINVAL (reg does not apply to half

@@ -52,7 +52,7 @@ double hl_suite_round(const struct hl_suite *s, double v)
 	return copysign(r / p, v);
 }
 
-static struct hl_suite_case *grow(struct hl_suite_variant *v)
+struct hl_suite_case *hl_suite_case_add(struct hl_suite_variant *v)
 {
 	struct hl_suite_case *c = realloc(v->cases, sizeof(*c) * (size_t)(v->n_cases + 1));
 
@@ -61,7 +61,7 @@ static struct hl_suite_case *grow(struct hl_suite_variant *v)
 	v->cases = c;
 	c = &v->cases[v->n_cases++];
 	memset(c, 0, sizeof(*c));
-	c->max_raw = c->value = c->at_range_m = c->at_t_s = c->margin = NAN;
+	c->max_raw = c->value = c->at_range_m = c->at_t_s = c->margin = c->limit = NAN;
 	c->from_m = c->to_m = NAN;
 	c->bin_index = c->photometer_index = -1;
 	c->worst_margin = INFINITY;
@@ -83,7 +83,7 @@ int hl_suite_fmvss_cases(const struct hl_suite *s, enum hl_actor_role role,
 
 			if (s->photometer[p].role != role)
 				continue;
-			c = grow(v);
+			c = hl_suite_case_add(v);
 			if (!c)
 				return -ENOMEM;
 			snprintf(c->name, sizeof(c->name), "%s %.1f-%.1f m, photometer %s",
@@ -127,36 +127,38 @@ void hl_suite_fmvss_sample(const struct hl_suite *s, struct hl_suite_variant *v,
 	}
 }
 
-int hl_suite_r149_cases(const struct hl_suite *s, const struct hl_regulation *reg,
-			const struct hl_glare *plan, enum hl_actor_role role,
+int hl_suite_r149_cases(const struct hl_regulation *reg, enum hl_actor_role role,
 			struct hl_suite_variant *v)
 {
-	double d[HL_GLARE_MAX_ROWS];
+	double d[HL_GLARE_MAX_ROWS], lim[HL_GLARE_MAX_ROWS];
 	int n = 0;
 
-	(void)s;
-	(void)plan;
-	/* the tabulated distances of role, ascending, each once */
+	/* the tabulated distances of role, each once, with the strictest limit at each */
 	for (int i = 0; i < reg->n_requirements; i++) {
-		const char *id = reg->req[i].id;
-		const char *word = role == HL_ROLE_ONCOMING ? "Oncoming " : "Preceding ";
+		enum hl_actor_role r;
 		double x;
 		int k;
 
-		if (strncmp(id, word, strlen(word)) || sscanf(id + strlen(word), "%lf", &x) != 1)
+		if (hl_glare_row_id(reg->req[i].id, &r, &x) < 0 || r != role)
 			continue;
 		for (k = 0; k < n && d[k] != x; k++)
 			;
-		if (k == n && n < HL_GLARE_MAX_ROWS)
-			d[n++] = x;
+		if (k == n) {
+			if (n == HL_GLARE_MAX_ROWS)
+				continue;
+			d[n] = x;
+			lim[n++] = INFINITY;
+		}
+		if (reg->req[i].max.set)
+			lim[k] = fmin(lim[k], reg->req[i].max.cd);
 	}
-	for (int i = 0; i < n; i++)
+	for (int i = 0; i < n; i++) /* ascending */
 		for (int j = i + 1; j < n; j++)
 			if (d[j] < d[i]) {
-				const double t = d[i];
+				const double td = d[i], tl = lim[i];
 
-				d[i] = d[j];
-				d[j] = t;
+				d[i] = d[j], lim[i] = lim[j];
+				d[j] = td, lim[j] = tl;
 			}
 	for (int i = 0; i < n; i++) {
 		const double hi = i + 1 < n ? d[i + 1] : INFINITY;
@@ -164,7 +166,7 @@ int hl_suite_r149_cases(const struct hl_suite *s, const struct hl_regulation *re
 
 		if (d[i] > v->range_m[1] + EPS || hi < v->range_m[0])
 			continue;
-		c = grow(v);
+		c = hl_suite_case_add(v);
 		if (!c)
 			return -ENOMEM;
 		snprintf(c->name, sizeof(c->name), "%s %g m (half the pair's intensity)",
@@ -172,19 +174,8 @@ int hl_suite_r149_cases(const struct hl_suite *s, const struct hl_regulation *re
 		c->from_m = d[i];
 		c->to_m = isfinite(hi) ? hi - BIN_STEP_M : v->range_m[1];
 		c->unit = "cd";
-		c->limit =
-			INFINITY; /* the strictest row at this distance until a frame says which */
-		for (int r = 0; r < reg->n_requirements; r++) {
-			const char *word = role == HL_ROLE_ONCOMING ? "Oncoming " : "Preceding ";
-			double x;
-
-			if (!strncmp(reg->req[r].id, word, strlen(word)) &&
-			    sscanf(reg->req[r].id + strlen(word), "%lf", &x) == 1 && x == d[i] &&
-			    reg->req[r].max.set)
-				c->limit = fmin(c->limit, reg->req[r].max.cd);
-		}
-		if (isinf(c->limit))
-			c->limit = NAN;
+		/* the strictest row at this distance until a frame says which */
+		c->limit = isinf(lim[i]) ? NAN : lim[i];
 		snprintf(c->source, sizeof(c->source), "%s: %s", reg->id, reg->source);
 	}
 	return 0;

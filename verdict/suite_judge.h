@@ -31,6 +31,12 @@ int hl_suite_bin_of(const struct hl_suite *s, enum hl_actor_role role, double ra
 double hl_suite_round(const struct hl_suite *s, double v);
 
 /*
+ * A new case at the end of v->cases: zeroed, its numbers (and limit) NAN, no bin or photometer; NULL when
+ * out of memory (v unchanged).
+ */
+struct hl_suite_case *hl_suite_case_add(struct hl_suite_variant *v);
+
+/*
  * The FMVSS cases of a variant: one per bin of role that overlaps the variant's measured range
  * and per photometer of that role, in bin order, then photometer order. 0, -ENOMEM.
  */
@@ -45,8 +51,7 @@ void hl_suite_fmvss_sample(const struct hl_suite *s, struct hl_suite_variant *v,
  * within the measured range (the rows of a distance hold from it up to the next one). 0,
  * -ENOMEM.
  */
-int hl_suite_r149_cases(const struct hl_suite *s, const struct hl_regulation *reg,
-			const struct hl_glare *plan, enum hl_actor_role role,
+int hl_suite_r149_cases(const struct hl_regulation *reg, enum hl_actor_role role,
 			struct hl_suite_variant *v);
 /* One glare result (the stimulus vehicle's). */
 void hl_suite_r149_sample(struct hl_suite_variant *v, const struct hl_glare_result *r);

@@ -71,7 +71,7 @@ int hl_suite_measure_new(const struct hl_suite *s, const struct hl_suite_scenari
 	case HL_SUITE_R149_ADB:
 		if (!d->has_role)
 			break;
-		rc = hl_suite_r149_cases(s, reg, NULL, d->role, v);
+		rc = hl_suite_r149_cases(reg, d->role, v);
 		add_series(v, "E at the driver's eye", d->role);
 		break;
 	case HL_SUITE_IIHS:
@@ -280,22 +280,16 @@ static struct hl_suite_case *reported(struct hl_suite_variant *v, const char *na
 				      const char *unit, double value, double at_m, double t_s,
 				      const char *source)
 {
-	struct hl_suite_case *c = realloc(v->cases, sizeof(*c) * (size_t)(v->n_cases + 1));
+	struct hl_suite_case *c = hl_suite_case_add(v);
 
 	if (!c)
 		return NULL;
-	v->cases = c;
-	c = &v->cases[v->n_cases++];
-	memset(c, 0, sizeof(*c));
 	snprintf(c->name, sizeof(c->name), "%s", name);
-	c->from_m = c->to_m = NAN;
 	c->unit = unit;
 	c->n_samples = 1;
 	c->max_raw = value;
 	c->at_range_m = at_m;
 	c->at_t_s = t_s;
-	c->limit = NAN;
-	c->bin_index = c->photometer_index = -1;
 	snprintf(c->source, sizeof(c->source), "%s", source);
 	return c;
 }

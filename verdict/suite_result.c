@@ -14,22 +14,35 @@ static bool variant_is_error(const struct hl_suite_variant *v)
 	return v->error[0] != '\0' || v->exit_code != 0;
 }
 
+void hl_suite_variant_totals(const struct hl_suite_variant *v, struct hl_suite_totals *ret)
+{
+	struct hl_suite_totals t = { 0 };
+
+	for (int c = 0; c < v->n_cases; c++) {
+		const struct hl_suite_case *k = &v->cases[c];
+
+		t.cases++;
+		t.judged += k->judged;
+		t.failed += k->judged && !k->pass;
+		t.no_samples += k->no_samples;
+	}
+	t.errors = variant_is_error(v);
+	*ret = t;
+}
+
 void hl_suite_result_totals(const struct hl_suite_result *r, struct hl_suite_totals *ret)
 {
 	struct hl_suite_totals t = { 0 };
 
 	for (int i = 0; i < r->n_variants; i++) {
-		const struct hl_suite_variant *v = &r->v[i];
+		struct hl_suite_totals one;
 
-		for (int c = 0; c < v->n_cases; c++) {
-			const struct hl_suite_case *k = &v->cases[c];
-
-			t.cases++;
-			t.judged += k->judged;
-			t.failed += k->judged && !k->pass;
-			t.no_samples += k->no_samples;
-		}
-		t.errors += variant_is_error(v);
+		hl_suite_variant_totals(&r->v[i], &one);
+		t.cases += one.cases;
+		t.judged += one.judged;
+		t.failed += one.failed;
+		t.no_samples += one.no_samples;
+		t.errors += one.errors;
 	}
 	*ret = t;
 }

@@ -92,6 +92,8 @@ struct hl_suite_totals {
 	int cases, judged, failed, no_samples, errors; /* errors: variants that did not finish */
 };
 void hl_suite_result_totals(const struct hl_suite_result *r, struct hl_suite_totals *ret);
+/* The same for one variant (errors: 1 when it did not finish). */
+void hl_suite_variant_totals(const struct hl_suite_variant *v, struct hl_suite_totals *ret);
 /* True when every judged case passed, no bin with a limit went unreached and every run finished. */
 bool hl_suite_result_passed(const struct hl_suite_result *r);
 void hl_suite_result_free(struct hl_suite_result *r); /* frees what is malloc'd inside, not r */

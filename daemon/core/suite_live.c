@@ -99,6 +99,14 @@ void hl_suite_live_frame(void *ctx, const struct hl_scenario *sc, const struct h
 	pthread_mutex_unlock(&sl->lock);
 }
 
+/* Variant i has run and is not the one running. */
+static bool finished(const struct hl_suite_live *sl, int i)
+{
+	const struct hl_suite_variant *v = &sl->r->v[i];
+
+	return i != sl->current && v->id[0] && v->n_frames > 0;
+}
+
 /* The limit of series s's photometer at range_m (NAN: none). */
 static double limit_at(const struct hl_suite *s, const struct hl_suite_series *se, double range_m)
 {
@@ -193,20 +201,16 @@ void hl_suite_live_status_json(struct hl_suite_live *sl, FILE *f)
 	fputs(",\"done\":[", f);
 	for (int i = 0, first = 1; i < r->n_variants; i++) {
 		const struct hl_suite_variant *v = &r->v[i];
-		int failed = 0, judged = 0;
+		struct hl_suite_totals t;
 
-		if (i == sl->current || !v->id[0] || v->n_frames == 0)
+		if (!finished(sl, i))
 			continue;
-		for (int k = 0; k < v->n_cases; k++) {
-			judged += v->cases[k].judged;
-			failed += (v->cases[k].judged && !v->cases[k].pass) ||
-				  v->cases[k].no_samples;
-		}
+		hl_suite_variant_totals(v, &t);
 		fputs(first ? "{\"id\":" : ",{\"id\":", f);
 		first = 0;
 		hl_json_write_str(f, v->id);
 		fprintf(f, ",\"frames\":%d,\"cases\":%d,\"judged\":%d,\"failed\":%d}", v->n_frames,
-			v->n_cases, judged, failed);
+			t.cases, t.judged, t.failed + t.no_samples);
 	}
 	fputs("]}", f);
 	pthread_mutex_unlock(&sl->lock);
@@ -222,14 +226,13 @@ void hl_suite_live_metrics(struct hl_suite_live *sl, struct hl_prom *p)
 	r = sl->r;
 	pthread_mutex_lock(&sl->lock);
 	for (int i = 0; i < r->n_variants; i++) {
-		const struct hl_suite_variant *v = &r->v[i];
+		struct hl_suite_totals t;
 
-		if (i == sl->current || !v->id[0] || v->n_frames == 0)
+		if (!finished(sl, i))
 			continue;
+		hl_suite_variant_totals(&r->v[i], &t);
 		done++;
-		for (int k = 0; k < v->n_cases; k++)
-			failed += (v->cases[k].judged && !v->cases[k].pass) ||
-				  v->cases[k].no_samples;
+		failed += t.failed + t.no_samples;
 	}
 	hl_prom_family(p, "hdlamp_suite_frames_total", HL_PROM_COUNTER,
 		       "frames the suite's photometers measured, over every variant");

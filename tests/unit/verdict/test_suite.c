@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "verdict/suite.h"
+#include "suite_util.h"
 
 /* A valid fmvss108-adb file, one thing per line where the tests break it. */
 static const char good[] =
@@ -65,21 +66,6 @@ static void expect_error(const char *text, int line, const char *key, const char
 		fail_msg("got '%s' (line %d, key '%s'), expected line %d key '%s' saying '%s'",
 			 formatted, err.line, err.key, line, key, want);
 	assert_string_equal(err.file, "t.json");
-}
-
-static struct hl_suite *read_shipped(const char *name)
-{
-	const char *src = getenv("HL_SOURCE_DIR");
-	struct hl_json_error err;
-	struct hl_suite *s = NULL;
-	char path[1024], msg[1024];
-
-	assert_non_null(src);
-	snprintf(path, sizeof(path), "%s/suites/%s.json", src, name);
-	if (hl_suite_read(path, &s, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, msg, sizeof(msg)));
-	assert_string_equal(s->name, name);
-	return s;
 }
 
 /* Every value has its source; every default says what, which value and why. */
@@ -243,6 +229,7 @@ static void suite_fmvss108_tables(void **state)
 	struct hl_suite *s = read_shipped("fmvss108-adb");
 	int n_on = 0, n_pre = 0;
 
+	assert_string_equal(s->name, "fmvss108-adb");
 	assert_int_equal(s->procedure, HL_SUITE_FMVSS108_ADB);
 	assert_true(s->has_rounding);
 	assert_int_equal(s->decimals, 1);
@@ -305,6 +292,7 @@ static void suite_iihs(void **state)
 	};
 	struct hl_suite *s = read_shipped("iihs");
 
+	assert_string_equal(s->name, "iihs");
 	assert_int_equal(s->procedure, HL_SUITE_IIHS);
 	assert_true(s->visibility_lx == 5.0);
 	assert_true(s->visibility_height_m == 0.25);
@@ -332,6 +320,7 @@ static void suite_r149(void **state)
 	(void)state;
 	struct hl_suite *s = read_shipped("r149-adb");
 
+	assert_string_equal(s->name, "r149-adb");
 	assert_int_equal(s->procedure, HL_SUITE_R149_ADB);
 	assert_string_equal(s->glare_set, "unece-r149-01-adb-glare");
 	assert_int_equal(s->n_bins, 0);

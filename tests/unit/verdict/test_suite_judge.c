@@ -17,20 +17,7 @@
 #include <cmocka.h>
 
 #include "verdict/suite_judge.h"
-
-static struct hl_suite *read_shipped(const char *name)
-{
-	const char *src = getenv("HL_SOURCE_DIR");
-	struct hl_json_error err;
-	struct hl_suite *s = NULL;
-	char path[1024], msg[1024];
-
-	assert_non_null(src);
-	snprintf(path, sizeof(path), "%s/suites/%s.json", src, name);
-	if (hl_suite_read(path, &s, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, msg, sizeof(msg)));
-	return s;
-}
+#include "suite_util.h"
 
 /* The bin's bounds as the table writes them, or -1, -1 for none. */
 static void bin_is(const struct hl_suite *s, enum hl_actor_role role, double range, double from,

@@ -21,20 +21,7 @@
 #include "verdict/photometer.h"
 #include "verdict/suite_scenario.h"
 #include "world/world.h"
-
-static struct hl_suite *read_shipped(const char *name)
-{
-	const char *src = getenv("HL_SOURCE_DIR");
-	struct hl_json_error err;
-	struct hl_suite *s = NULL;
-	char path[1024], msg[1024];
-
-	assert_non_null(src);
-	snprintf(path, sizeof(path), "%s/suites/%s.json", src, name);
-	if (hl_suite_read(path, &s, &err) < 0)
-		fail_msg("%s", hl_json_error_format(&err, msg, sizeof(msg)));
-	return s;
-}
+#include "suite_util.h"
 
 /* The nearest and farthest photometer of the stimulus vehicle from the lamps' midpoint. */
 static void ranges(const struct hl_suite *s, const struct hl_scenario *sc, double t, double *lo,
