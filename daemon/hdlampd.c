@@ -64,6 +64,7 @@ static void usage(FILE *f)
 		"  --exit-at-end      = loop.exit_at_end: stop at the scenario's end (needs --scenario)\n"
 		"  --report FILE      = loop.report: the run's JSON report at exit; the exit code is\n"
 		"                     then 0 only when every verdict held, 3 when one failed\n"
+		"  --junit FILE       = loop.junit: the run's verdicts as JUnit XML at exit\n"
 		"  --loop-events FILE = loop.events: JSON lines per loop event ('-': stdout)\n"
 		"  --suite NAME|FILE  run a test suite's variants one after the other in real time\n"
 		"                     (docs/lab.md): each its own scenario with --exit-at-end,\n"
@@ -124,6 +125,7 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "ecu-fault", required_argument, NULL, 'F' },
 		{ "exit-at-end", no_argument, NULL, 'E' },
 		{ "report", required_argument, NULL, 'R' },
+		{ "junit", required_argument, NULL, 'J' },
 		{ "loop-events", required_argument, NULL, 'V' },
 		{ "no-render", no_argument, NULL, 'n' },
 		{ "print-cycles", no_argument, NULL, 'p' },
@@ -196,6 +198,9 @@ static int parse_options(int argc, char **argv, struct options *o)
 		case 'R':
 			rc = add_override(o, "loop.report", optarg, "--report", optarg);
 			break;
+		case 'J':
+			rc = add_override(o, "loop.junit", optarg, "--junit", optarg);
+			break;
 		case 'V':
 			rc = add_override(o, "loop.events", optarg, "--loop-events", optarg);
 			break;
@@ -267,16 +272,17 @@ static int parse_options(int argc, char **argv, struct options *o)
 		return -EINVAL;
 	}
 	if (o->suite.suite) {
-		const char *why = o->cfg.scenario[0]	? "--scenario: the suite makes its own" :
-				  o->cfg.replay[0]	? "--replay: a suite runs in real time" :
-				  o->cfg.pose_listen[0] ? "--pose: the suite's scenarios move" :
-				  o->no_render ? "--no-render: the photometers need frames" :
-				  o->cfg.loop_report[0] ?
-						 "--report: each run's goes to DIR/runs" :
-				  !o->cfg.ecu_model[0] && !o->cfg.restbus_interface[0] ?
-						 "give --ecu MODEL, or --restbus IFACE for the "
-						 "ECU on --can IFACE" :
-						 NULL;
+		const char *why =
+			o->cfg.scenario[0]    ? "--scenario: the suite makes its own" :
+			o->cfg.replay[0]      ? "--replay: a suite runs in real time" :
+			o->cfg.pose_listen[0] ? "--pose: the suite's scenarios move" :
+			o->no_render	      ? "--no-render: the photometers need frames" :
+			o->cfg.loop_report[0] ? "--report: each run's goes to DIR/runs" :
+			o->cfg.loop_junit[0]  ? "--junit: the suite writes DIR/junit.xml" :
+			!o->cfg.ecu_model[0] && !o->cfg.restbus_interface[0] ?
+					       "give --ecu MODEL, or --restbus IFACE for the "
+					       "ECU on --can IFACE" :
+					       NULL;
 
 		if (why) {
 			fprintf(stderr, "hdlampd: --suite: not with %s\n", why);

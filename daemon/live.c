@@ -247,7 +247,8 @@ static int setup(struct live *lv)
 	if (rc == 0 && lv->args->render)
 		rc = setup_parts(lv);
 	if (rc == 0 && !lv->args->render &&
-	    (lv->cfg.loop_report[0] || lv->cfg.loop_exit_at_end || lv->cfg.loop_events[0])) {
+	    (lv->cfg.loop_report[0] || lv->cfg.loop_junit[0] || lv->cfg.loop_exit_at_end ||
+	     lv->cfg.loop_events[0])) {
 		hl_live_log("loop.report, loop.exit_at_end and loop.events judge rendered frames: "
 			    "not with --no-render");
 		lv->config_error = true;
@@ -418,7 +419,8 @@ static int report(struct live *lv, const char *end, int code)
 		.ecu_error = hl_live_ecu_error_text(lv->ecu),
 	};
 
-	return hl_run_report_end(&src, lv->cfg.loop_report, lv->cfg.loop_exit_at_end, code);
+	return hl_run_report_end(&src, lv->cfg.loop_report, lv->cfg.loop_junit,
+				 lv->cfg.loop_exit_at_end, code);
 }
 
 int hl_live_run(const struct hl_config *cfg, const struct hl_live_args *args)

@@ -62,8 +62,8 @@ int hl_live_loop_new(const struct hl_config *cfg, const struct hl_scenario *sc,
 	bool config_error = false;
 	int rc;
 
-	if (!sc || !(cfg->restbus_interface[0] || cfg->loop_report[0] || cfg->loop_exit_at_end ||
-		     cfg->loop_events[0])) {
+	if (!sc || !(cfg->restbus_interface[0] || cfg->loop_report[0] || cfg->loop_junit[0] ||
+		     cfg->loop_exit_at_end || cfg->loop_events[0])) {
 		*ret = NULL;
 		return 0;
 	}

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The closed-loop run's report from hdlampd's objects: see daemon/run_report.h. */
 #include "daemon/run_report.h"
+#include "daemon/loop/loop_junit.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -79,20 +80,30 @@ int hl_run_report_write(const struct hl_run_report_sources *s, const char *path)
 	return hl_loop_report_write(&r, path);
 }
 
-int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,
-		      int code)
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, const char *junit,
+		      bool exit_at_end, int code)
 {
 	bool passed;
 	int rc;
 
 	hl_loop_latency_finish(s->loop);
-	if (!path[0] && !exit_at_end)
+	if (!path[0] && !junit[0] && !exit_at_end)
 		return code;
 	passed = hl_run_report_passed(s);
 	if (path[0]) {
 		rc = hl_run_report_write(s, path);
 		if (rc < 0) {
 			fprintf(stderr, "hdlampd: loop.report '%s': %s\n", path, strerror(-rc));
+			return 1;
+		}
+	}
+	if (junit[0]) {
+		struct hl_loop_report r;
+
+		hl_run_report_collect(s, &r);
+		rc = hl_loop_junit_write(&r, s->ecu_error, junit);
+		if (rc < 0) {
+			fprintf(stderr, "hdlampd: loop.junit '%s': %s\n", junit, strerror(-rc));
 			return 1;
 		}
 	}

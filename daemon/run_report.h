@@ -49,11 +49,12 @@ int hl_run_report_write(const struct hl_run_report_sources *s, const char *path)
 
 /*
  * At the run's end (every thread that fed the counters stopped): finishes the loop's judge,
- * writes the report to path (if not empty) and logs the verdict. Returns the exit code: code
+ * writes the report to path and the verdicts as JUnit XML to junit (each if not empty; the
+ * JUnit as hdlamp sil --junit writes it, daemon/loop/loop_junit.h) and logs the verdict. Returns the exit code: code
  * when neither a report nor exit_at_end was asked for, else 3 when the verdict failed (and code
- * was 0), 1 when the report could not be written.
+ * was 0), 1 when the report or the JUnit could not be written.
  */
-int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, bool exit_at_end,
-		      int code);
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path,
+		      const char *junit, bool exit_at_end, int code);
 
 #endif

@@ -29,7 +29,7 @@
 #include "lamp/model.h"
 #include "ecu/node.h"
 #include "sil/frames.h"
-#include "sil/junit.h"
+#include "daemon/loop/loop_junit.h"
 #include "sil/restbus_node.h"
 #include "world/scenario_clock.h"
 #include "world/world.h"
@@ -573,7 +573,7 @@ int hl_sil_run(const struct hl_sil_options *o)
 		}
 	}
 	if (o->junit) {
-		const int wr = hl_sil_junit_write(&s->rep, rc < 0 ? err : NULL, o->junit);
+		const int wr = hl_loop_junit_write(&s->rep, rc < 0 ? err : NULL, o->junit);
 
 		if (wr < 0) {
 			fprintf(o->log, "hdlamp sil: --junit '%s': %s\n", o->junit, strerror(-wr));

@@ -186,6 +186,9 @@ static const struct key keys[] = {
 	  "write the run's JSON report (frames, cycles, verdicts, glare, loop latencies) here at "
 	  "exit; empty = none",
 	  NULL },
+	{ "loop", "junit", PATH, F(loop_junit), 0, 0,
+	  "write the run's verdicts as JUnit XML here at exit (as hdlamp sil --junit); empty = none",
+	  NULL },
 	{ "sched", "realtime_priority", INT, F(rt_priority), 0, 99,
 	  "SCHED_FIFO priority of the CAN and render threads (and the render helpers), the frame "
 	  "stream thread one below; 0 = normal scheduling",
@@ -540,6 +543,8 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "loop.exit_at_end needs scene.scenario: the run ends with it";
 	else if (cfg->loop_report[0] && !cfg->scenario[0])
 		why = "loop.report needs scene.scenario: the report judges its run";
+	else if (cfg->loop_junit[0] && !cfg->scenario[0])
+		why = "loop.junit needs scene.scenario: the JUnit judges its run";
 	if (why && err)
 		snprintf(err->msg, sizeof(err->msg), "%s", why);
 	return why ? -EINVAL : 0;

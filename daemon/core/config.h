@@ -113,6 +113,7 @@ struct hl_config {
 	char loop_events[HL_CONFIG_PATH]; /* JSON lines per event: a file, "-" stdout, "" none */
 	bool loop_exit_at_end; /* stop at the scenario's end */
 	char loop_report[HL_CONFIG_PATH]; /* the run's JSON report at exit, or "" */
+	char loop_junit[HL_CONFIG_PATH]; /* the run's verdicts as JUnit XML at exit, or "" */
 	/* [sched] */
 	int rt_priority; /* SCHED_FIFO of the CAN and render threads (stream: one below); 0: off */
 	/* where each key of config.c's table was last set, by its index there */

@@ -217,17 +217,20 @@ static void run_report_write_into_a_missing_directory_is_enoent(void **state)
 	assert_int_equal(hl_run_report_write(&f->src, path), -ENAMETOOLONG);
 }
 
-/* The exit code: unchanged without a report or an end asked for; 3 for a failed verdict; 1 for
- * a report that cannot be written. */
+/* The exit code: unchanged without a report, a JUnit or an end asked for; 3 for a failed
+ * verdict; 1 for a report or a JUnit that cannot be written. */
 static void run_report_end_exit_codes(void **state)
 {
 	struct fixture *f = *state;
 
-	assert_int_equal(hl_run_report_end(&f->src, "", false, 0), 0);
-	assert_int_equal(hl_run_report_end(&f->src, "", false, 7), 7);
-	assert_int_equal(hl_run_report_end(&f->src, "", true, 0), 3);
-	assert_int_equal(hl_run_report_end(&f->src, "", true, 1), 1);
-	assert_int_equal(hl_run_report_end(&f->src, "/nonexistent-dir/report.json", false, 0), 1);
+	assert_int_equal(hl_run_report_end(&f->src, "", "", false, 0), 0);
+	assert_int_equal(hl_run_report_end(&f->src, "", "", false, 7), 7);
+	assert_int_equal(hl_run_report_end(&f->src, "", "", true, 0), 3);
+	assert_int_equal(hl_run_report_end(&f->src, "", "", true, 1), 1);
+	assert_int_equal(hl_run_report_end(&f->src, "/nonexistent-dir/report.json", "", false, 0),
+			 1);
+	/* a JUnit alone asks for the verdict too; one that cannot be written is exit 1 */
+	assert_int_equal(hl_run_report_end(&f->src, "", "/nonexistent-dir/junit.xml", false, 0), 1);
 }
 
 int main(void)

@@ -7,12 +7,12 @@
  * and, when the ECU failed, one for the ECU with its error. No time attributes: the file is the
  * same bytes for the same run.
  */
-#ifndef HL_SIL_JUNIT_H
-#define HL_SIL_JUNIT_H
+#ifndef HL_LOOP_JUNIT_H
+#define HL_LOOP_JUNIT_H
 
 #include "daemon/loop/loop_report.h"
 
 /* ecu_error: NULL, or what ended the run. 0 or -errno. */
-int hl_sil_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path);
+int hl_loop_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path);
 
 #endif

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* A run's verdicts as JUnit XML: see sil/junit.h. */
-#include "sil/junit.h"
+/* A run's verdicts as JUnit XML: see daemon/loop/loop_junit.h. */
+#include "daemon/loop/loop_junit.h"
 #include "base/file_replace.h"
 #include "base/xml_write.h"
 
@@ -100,7 +100,7 @@ static void write_file(void *ctx, FILE *f)
 	fputs("  </testsuite>\n</testsuites>\n", f);
 }
 
-int hl_sil_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path)
+int hl_loop_junit_write(const struct hl_loop_report *r, const char *ecu_error, const char *path)
 {
 	struct junit j = { r, ecu_error };
 
