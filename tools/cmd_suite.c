@@ -41,8 +41,7 @@ static void usage(FILE *f)
 	      f);
 }
 
-/* NAME (a shipped suite) or a .json path. 0, or 2 (logged). */
-static int load(const char *arg, struct hl_suite **ret)
+int hl_cli_suite_load(const char *prog, const char *arg, struct hl_suite **ret)
 {
 	char path[4096], buf[1024];
 	struct hl_json_error err;
@@ -53,20 +52,21 @@ static int load(const char *arg, struct hl_suite **ret)
 		snprintf(path, sizeof(path), "%s", arg);
 	} else {
 		if (hl_suite_default_dir(path, sizeof(path) - 64) < 0) {
-			fprintf(stderr, "hdlamp suite: cannot find the shipped suites beside the "
-					"binary; give a file\n");
+			fprintf(stderr,
+				"%s: cannot find the shipped suites beside the binary; give a file\n",
+				prog);
 			return 2;
 		}
 		snprintf(path + strlen(path), 64 + 1, "/%.48s.json", arg);
 	}
 	rc = hl_suite_read(path, ret, &err);
 	if (rc == -ENOENT && !strchr(arg, '/') && !(n > 5 && !strcmp(arg + n - 5, ".json"))) {
-		fprintf(stderr,
-			"hdlamp suite: no suite named '%s' (hdlamp suite list shows them)\n", arg);
+		fprintf(stderr, "%s: no suite named '%s' (hdlamp suite list shows them)\n", prog,
+			arg);
 		return 2;
 	}
 	if (rc < 0) {
-		fprintf(stderr, "hdlamp suite: %s\n", hl_json_error_format(&err, buf, sizeof(buf)));
+		fprintf(stderr, "%s: %s\n", prog, hl_json_error_format(&err, buf, sizeof(buf)));
 		return 2;
 	}
 	return 0;
@@ -113,7 +113,7 @@ static int cmd_list(void)
 static int cmd_show(const char *arg)
 {
 	struct hl_suite *s;
-	int rc = load(arg, &s);
+	int rc = hl_cli_suite_load("hdlamp suite", arg, &s);
 
 	if (rc)
 		return rc;
@@ -169,6 +169,15 @@ static int cmd_show(const char *arg)
  * --can IFACE: hdlampd --suite in real time (daemon/live_suite.h), with this command's --config
  * and --set; hdlampd beside this binary (installed) or in the build tree's daemon/.
  */
+int hl_cli_hdlampd_path(char *buf, size_t size)
+{
+	if (hl_exe_relative("hdlampd", buf, size) == 0 && access(buf, X_OK) == 0)
+		return 0;
+	if (hl_exe_relative("../daemon/hdlampd", buf, size) == 0 && access(buf, X_OK) == 0)
+		return 0;
+	return -ENOENT;
+}
+
 static int run_can(int argc, char **argv, const char *suite, const char *can, const char *out,
 		   const char *only)
 {
@@ -176,12 +185,9 @@ static int run_can(int argc, char **argv, const char *suite, const char *can, co
 	char *args[2 * 64 + 16];
 	int n = 0;
 
-	if (hl_exe_relative("hdlampd", exe, sizeof(exe)) < 0 || access(exe, X_OK) < 0) {
-		if (hl_exe_relative("../daemon/hdlampd", exe, sizeof(exe)) < 0 ||
-		    access(exe, X_OK) < 0) {
-			fprintf(stderr, "hdlamp suite: --can: cannot find hdlampd beside hdlamp\n");
-			return 1;
-		}
+	if (hl_cli_hdlampd_path(exe, sizeof(exe)) < 0) {
+		fprintf(stderr, "hdlamp suite: --can: cannot find hdlampd beside hdlamp\n");
+		return 1;
 	}
 	args[n++] = exe;
 	args[n++] = "--suite";
@@ -320,7 +326,7 @@ static int cmd_run(int argc, char **argv)
 		return run_can(argc, argv, argv[optind], can, o.out, o.only);
 	}
 	if (rc == 0)
-		rc = load(argv[optind], &s);
+		rc = hl_cli_suite_load("hdlamp suite", argv[optind], &s);
 	if (rc == 0) {
 		if (!o.out) {
 			snprintf(out, sizeof(out), "suite-%s", s->name);

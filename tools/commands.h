@@ -3,6 +3,8 @@
 #ifndef HL_TOOLS_COMMANDS_H
 #define HL_TOOLS_COMMANDS_H
 
+#include <stddef.h>
+
 #define HL_EXIT_OK 0
 #define HL_EXIT_FAIL 1
 #define HL_EXIT_USAGE 2
@@ -16,6 +18,7 @@ int hl_cmd_glare(int argc, char **argv);
 int hl_cmd_ecu(int argc, char **argv);
 int hl_cmd_sil(int argc, char **argv);
 int hl_cmd_suite(int argc, char **argv);
+int hl_cmd_batch(int argc, char **argv);
 /* hdlamp lid import / export (cmd_lid_import.c); argv[0] is the verb. */
 int hl_cmd_lid_import(int argc, char **argv);
 int hl_cmd_lid_export(int argc, char **argv);
@@ -26,6 +29,12 @@ int hl_cmd_scenario_builtin(int argc, char **argv);
 int hl_cmd_render_scenario(int argc, char **argv);
 /* hdlamp lid check (cmd_lid_check.c); argv[0] is the verb. */
 int hl_cmd_lid_check(int argc, char **argv);
+
+/*
+ * hdlampd beside this binary (installed) or in the build tree's daemon/ (tools/cmd_suite.c).
+ * 0 or -ENOENT.
+ */
+int hl_cli_hdlampd_path(char *buf, size_t size);
 
 struct hl_lid;
 /*

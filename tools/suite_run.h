@@ -35,4 +35,10 @@ struct hl_suite_run_options {
  */
 int hl_suite_run(const struct hl_suite_run_options *o);
 
+/*
+ * A suite by NAME (a shipped suite) or a .json path (tools/cmd_suite.c). 0, or 2 after telling
+ * why on stderr ("PROG: ...").
+ */
+int hl_cli_suite_load(const char *prog, const char *arg, struct hl_suite **ret);
+
 #endif
