@@ -389,6 +389,11 @@ bool hl_loop_latency_event(struct hl_loop_latency *ll, int k, struct hl_loop_eve
 	return ok;
 }
 
+bool hl_loop_latency_strict(const struct hl_loop_latency *ll)
+{
+	return !ll->cfg.camera;
+}
+
 static bool actor_passed(const struct hl_loop_latency *ll, const struct hl_loop_actor *a)
 {
 	return ll->cfg.camera ? a->frames_over_late == 0 : a->frames_over == 0;

@@ -124,6 +124,8 @@ bool hl_loop_latency_event(struct hl_loop_latency *ll, int k, struct hl_loop_eve
 /* The verdict: no road user over its limit in view after the reaction time (without a
  * camera: no road user over its limit at all). */
 bool hl_loop_latency_passed(struct hl_loop_latency *ll);
+/* true: no camera (no restbus), every frame over a road user's limit is a violation */
+bool hl_loop_latency_strict(const struct hl_loop_latency *ll);
 double hl_loop_latency_reaction_ms(const struct hl_loop_latency *ll);
 
 /* One event as a JSON object (no newline). */
