@@ -317,7 +317,7 @@ static void no_result_reason(const char *tdir, unsigned index, char *why, size_t
 	snprintf(path, sizeof(path), "%s/started.json", tdir);
 	s = json_load_file(path, 0, NULL);
 	if (s) {
-		time_t t = (time_t)json_integer_value(json_object_get(s, "started_unix"));
+		time_t t = (time_t)json_number_value(json_object_get(s, "started_unix"));
 		char when[64];
 
 		strftime(when, sizeof(when), "%Y-%m-%dT%H:%M:%SZ", gmtime(&t));

@@ -229,8 +229,13 @@ static int plan_suite(struct plan *p, json_t *entry, size_t si)
 	snprintf(name, sizeof(name), "%s", json_string_value(jname));
 	if (strchr(name, '/') && resolve(p, json_string_value(jname), name, sizeof(name)) < 0)
 		return fail(p, key, "path too long");
-	if (hl_cli_suite_load(PROG, name, &s))
-		return 2;
+	{
+		char prog[PATH_MAX + 128];
+
+		snprintf(prog, sizeof(prog), PROG ": %s: key 'suites[%zu].suite'", p->spec_path, si);
+		if (hl_cli_suite_load(prog, name, &s))
+			return 2;
+	}
 	count = hl_suite_plan(s, NULL, samples, &r, msg, sizeof(msg));
 	if (count < 0) {
 		fprintf(stderr, PROG ": %s: %s: %s\n", p->spec_path, key, msg);

@@ -109,8 +109,12 @@ static void write_started(const char *dir, unsigned index, const char *id)
 	f = fopen(path, "w");
 	if (!f)
 		return;
-	json_t *j = json_pack("{s:i, s:s, s:s, s:i, s:I}", "index", index, "id", id, "host", host,
-			      "pid", (int)getpid(), "started_unix", (json_int_t)time(NULL));
+	struct timespec now;
+
+	clock_gettime(CLOCK_REALTIME, &now);
+	json_t *j = json_pack("{s:i, s:s, s:s, s:i, s:f}", "index", index, "id", id, "host", host,
+			      "pid", (int)getpid(), "started_unix",
+			      (double)now.tv_sec + (double)now.tv_nsec * 1e-9);
 
 	json_dumpf(j, f, JSON_COMPACT | JSON_PRESERVE_ORDER);
 	fputc('\n', f);
@@ -206,7 +210,12 @@ static int run_index(const char *plan, const char *out, unsigned index, bool for
 	unlink(path);
 	write_started(dir, index, t.id);
 	clock_gettime(CLOCK_MONOTONIC, &t0);
-	oc.started_unix = (double)time(NULL);
+	{
+		struct timespec now;
+
+		clock_gettime(CLOCK_REALTIME, &now);
+		oc.started_unix = (double)now.tv_sec + (double)now.tv_nsec * 1e-9;
+	}
 	ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1);
 
 	if (len < 0) {
@@ -293,6 +302,20 @@ int hl_batch_copy_plan(const char *plan, const char *out)
 	return copy_plan(plan, out);
 }
 
+/* Task index (the next line of plan_f) finished in out, for the id the plan gives it. */
+static bool task_finished(FILE *plan_f, const char *out, unsigned index)
+{
+	char *line = NULL;
+	size_t cap = 0;
+	json_t *j = getline(&line, &cap, plan_f) >= 0 ? json_loads(line, 0, NULL) : NULL;
+	const char *id = json_string_value(json_object_get(j, "id"));
+	bool done = id && hl_batch_task_finished(out, index, id);
+
+	free(line);
+	json_decref(j);
+	return done;
+}
+
 /* Every unfinished task, jobs at a time, each as `hdlamp batch run PLAN --index N`. */
 static int run_jobs(const char *plan, const char *out, unsigned jobs, bool force)
 {
@@ -311,9 +334,19 @@ static int run_jobs(const char *plan, const char *out, unsigned jobs, bool force
 		return 1;
 	}
 	ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1);
+	FILE *plan_f = fopen(plan, "r");
+	char *header = NULL;
+	size_t header_cap = 0;
 
-	if (len < 0)
+	if (len < 0 || !plan_f || getline(&header, &header_cap, plan_f) < 0) {
+		fprintf(stderr, PROG ": %s: %s\n", len < 0 ? "/proc/self/exe" : plan,
+			strerror(errno));
+		if (plan_f)
+			fclose(plan_f);
+		free(header);
 		return 1;
+	}
+	free(header);
 	self[len] = '\0';
 	signal(SIGINT, on_stop);
 	signal(SIGTERM, on_stop);
@@ -321,7 +354,7 @@ static int run_jobs(const char *plan, const char *out, unsigned jobs, bool force
 		if (next < n && running < jobs) {
 			pid_t pid;
 
-			if (!force && hl_batch_task_finished(out, next, NULL)) {
+			if (!force && task_finished(plan_f, out, next)) {
 				next++;
 				skipped++;
 				continue;
@@ -369,6 +402,7 @@ static int run_jobs(const char *plan, const char *out, unsigned jobs, bool force
 		while (wait(NULL) > 0 || errno == EINTR)
 			;
 	}
+	fclose(plan_f);
 	fprintf(stderr,
 		PROG ": %u tasks: %u run (%u failed, %u errors), %u already finished%s; "
 		     "hdlamp batch merge %s merges them\n",

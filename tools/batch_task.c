@@ -338,8 +338,8 @@ int hl_batch_result_write(const struct hl_batch_task *t, const char *dir,
 	} else if (oc->stop_signal) {
 		oc->status = HL_BATCH_ERROR;
 		snprintf(oc->reason, sizeof(oc->reason),
-			 "stopped by %s (scancel, the scheduler's time limit or a node shutdown)",
-			 sigabbrev_np(oc->stop_signal) ?: "a signal");
+			 "stopped by SIG%s (scancel, the scheduler's time limit or a node shutdown)",
+			 sigabbrev_np(oc->stop_signal) ?: "?");
 		oc->exit = 1;
 	} else if (oc->signal) {
 		oc->status = HL_BATCH_ERROR;
