@@ -22,6 +22,8 @@ static const struct command commands[] = {
 	{ "ecu", hl_cmd_ecu, "the reference virtual headlamp ECU on a CAN interface" },
 	{ "sil", hl_cmd_sil, "the loop in virtual time: restbus, virtual bus, ECU, verdicts" },
 	{ "suite", hl_cmd_suite, "the ADB lab's test suites: FMVSS 108 ADB, IIHS, R149 ADB" },
+	{ "batch", hl_cmd_batch,
+	  "thousands of runs: plan, run by index, Slurm arrays, Kubernetes Indexed Jobs, merge" },
 };
 
 static void usage(FILE *f)
