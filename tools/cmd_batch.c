@@ -32,6 +32,7 @@ int hl_cmd_batch(int argc, char **argv)
 	} verbs[] = {
 		{ "plan", hl_batch_plan_cmd },	 { "run", hl_batch_run_cmd },
 		{ "merge", hl_batch_merge_cmd }, { "slurm", hl_batch_slurm_cmd },
+		{ "k8s", hl_batch_k8s_cmd },
 
 	};
 

@@ -18,6 +18,7 @@ int hl_cmd_glare(int argc, char **argv);
 int hl_cmd_ecu(int argc, char **argv);
 int hl_cmd_sil(int argc, char **argv);
 int hl_cmd_suite(int argc, char **argv);
+/* hdlamp batch (cmd_batch.c): argv[1] is the verb (tools/batch.h). */
 int hl_cmd_batch(int argc, char **argv);
 /* hdlamp lid import / export (cmd_lid_import.c); argv[0] is the verb. */
 int hl_cmd_lid_import(int argc, char **argv);
