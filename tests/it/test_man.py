@@ -78,7 +78,7 @@ def command_blocks(page):
     """hdlamp.1.scd's COMMANDS section -> {command path: text of its block(s)}."""
     blocks, name = {}, None
     for line in sections(page)["COMMANDS"].splitlines():
-        m = re.match(r"\*([a-z][a-z ]*?)\*", line)
+        m = re.match(r"\*([a-z][a-z0-9 ]*?)\*", line)
         if m:
             name = m.group(1).strip()
         if name:
