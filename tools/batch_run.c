@@ -43,13 +43,14 @@ static void on_stop(int sig)
 static void usage(FILE *f)
 {
 	fputs("usage: hdlamp batch run PLAN.jsonl --out DIR (--index N | --index env | --jobs J)\n"
-	      "                        [--force]\n"
+	      "                        [--chunk K] [--force]\n"
 	      "--index N: runs task N into DIR/N/ (report.json, junit.xml, log.txt, result.json);\n"
 	      "--index env: N from JOB_COMPLETION_INDEX (a Kubernetes Indexed Job) or\n"
 	      "SLURM_ARRAY_TASK_ID plus HL_BATCH_OFFSET (a Slurm array); --jobs J: every task not\n"
 	      "finished yet, J at a time, on this machine (a copy of the plan goes to\n"
 	      "DIR/plan.jsonl for hdlamp batch merge). A finished task (exit 0, 2 or 3 in its\n"
-	      "result.json) is not run again unless --force.\n"
+	      "result.json) is not run again unless --force. --chunk K (with --index): tasks N*K to\n"
+	      "N*K+K-1, one after the other (an array element for several short tasks).\n"
 	      "Exit (--index): the task's: 0 passed, 3 failed, 2 bad input, 1 it could not finish.\n"
 	      "Exit (--jobs): 0 every task passed, 3 one failed or erred, 2 bad input, 1 an error.\n",
 	      f);
@@ -410,15 +411,48 @@ static int run_jobs(const char *plan, const char *out, unsigned jobs, bool force
 	return stop_signal ? 1 : failed || errors ? 3 : 0;
 }
 
+/*
+ * --index I --chunk K: tasks I*K .. I*K+K-1 (those the plan has), one after the other (a
+ * scheduler's array element running several short tasks). The worst exit: 1, then 2, then 3.
+ */
+static int run_chunk(const char *plan, const char *out, unsigned index, unsigned chunk, bool force)
+{
+	char msg[512];
+	unsigned n;
+	int worst = 0;
+
+	if (hl_batch_plan_count(plan, &n, msg, sizeof(msg)) < 0) {
+		fprintf(stderr, PROG ": %s\n", msg);
+		return 2;
+	}
+	if ((unsigned long long)index * chunk >= n) {
+		fprintf(stderr,
+			PROG ": --index %u --chunk %u: the plan has %u tasks (chunks 0..%u)\n",
+			index, chunk, n, (n - 1) / chunk);
+		return 2;
+	}
+	for (unsigned i = index * chunk; i < n && i < (index + 1) * chunk; i++) {
+		int rc = run_index(plan, out, i, force);
+
+		if (rc == 1 || (rc == 2 && worst != 1) || (rc == 3 && worst == 0))
+			worst = rc;
+	}
+	return worst;
+}
+
 int hl_batch_run_cmd(int argc, char **argv)
 {
 	static const struct option opts[] = {
-		{ "out", required_argument, NULL, 'o' },  { "index", required_argument, NULL, 'i' },
-		{ "jobs", required_argument, NULL, 'j' }, { "force", no_argument, NULL, 'f' },
-		{ "help", no_argument, NULL, 'h' },	  { NULL, 0, NULL, 0 },
+		{ "out", required_argument, NULL, 'o' },
+		{ "index", required_argument, NULL, 'i' },
+		{ "jobs", required_argument, NULL, 'j' },
+		{ "force", no_argument, NULL, 'f' },
+		{ "chunk", required_argument, NULL, 'k' },
+		{ "help", no_argument, NULL, 'h' },
+		{ NULL, 0, NULL, 0 },
 	};
 	const char *out = NULL, *index_arg = NULL;
-	unsigned jobs = 0, index;
+	unsigned jobs = 0, index, chunk = 0;
 	bool force = false;
 	int c;
 
@@ -440,6 +474,13 @@ int hl_batch_run_cmd(int argc, char **argv)
 		case 'f':
 			force = true;
 			break;
+		case 'k':
+			if (parse_index(optarg, &chunk) < 0 || chunk < 1 || chunk > 100000) {
+				fprintf(stderr, PROG ": --chunk '%s': expected 1..100000\n",
+					optarg);
+				return 2;
+			}
+			break;
 		case 'h':
 			usage(stdout);
 			return 0;
@@ -454,6 +495,10 @@ int hl_batch_run_cmd(int argc, char **argv)
 		usage(stderr);
 		return 2;
 	}
+	if (jobs && chunk) {
+		fprintf(stderr, PROG ": --chunk goes with --index\n");
+		return 2;
+	}
 	if (jobs)
 		return run_jobs(argv[optind], out, jobs, force);
 	if (!strcmp(index_arg, "env")) {
@@ -464,5 +509,7 @@ int hl_batch_run_cmd(int argc, char **argv)
 			index_arg);
 		return 2;
 	}
-	return run_index(argv[optind], out, index, force);
+	if (!chunk)
+		return run_index(argv[optind], out, index, force);
+	return run_chunk(argv[optind], out, index, chunk, force);
 }

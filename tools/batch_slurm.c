@@ -25,7 +25,7 @@
 
 struct slurm {
 	const char *out, *partition, *time_limit, *mem, *sbatch;
-	unsigned max_parallel, max_array;
+	unsigned max_parallel, max_array, chunk;
 	bool dry_run;
 	char plan[PATH_MAX + 32], dir[PATH_MAX], self[PATH_MAX];
 };
@@ -34,14 +34,16 @@ static void usage(FILE *f)
 {
 	fputs("usage: hdlamp batch slurm PLAN.jsonl --out DIR [--max-parallel P] [--partition NAME]\n"
 	      "                          [--time LIMIT] [--mem SIZE] [--max-array-size M]\n"
-	      "                          [--sbatch PATH] [--dry-run]\n"
+	      "                          [--chunk K] [--sbatch PATH] [--dry-run]\n"
 	      "Copies the plan to DIR/plan.jsonl, writes DIR/slurm/array.sh and merge.sh and\n"
 	      "submits the tasks without a finished result as one job array (sbatch\n"
 	      "--array=LIST%P, P = --max-parallel, default 2; an array per M indices when the plan\n"
 	      "has more than --max-array-size, default 1001 as Slurm's MaxArraySize) and a merge\n"
 	      "job after them (--dependency=afterany) writing DIR/merged/junit.xml, index.html and\n"
 	      "summary.json. Run it again after a lost node or a scancel: only the tasks without a\n"
-	      "finished result are submitted. --dry-run prints the sbatch commands only.\n"
+	      "finished result are submitted. --chunk K: each array element runs K tasks one\n"
+	      "after the other (for short tasks: Slurm's cost per element is about a second).\n"
+	      "--dry-run prints the sbatch commands only.\n"
 	      "Exit: 0 submitted (or nothing left to do), 2 bad input, 1 sbatch failed.\n",
 	      f);
 }
@@ -197,8 +199,13 @@ static int submit(struct slurm *s, const char *list, unsigned n)
 	snprintf(merged[1], sizeof(merged[1]), "%s/merged/index.html", s->dir);
 	snprintf(merged[2], sizeof(merged[2]), "%s/merged/summary.json", s->dir);
 	{
-		const char *run[] = { "batch", "run",	s->plan, "--index",
-				      "env",   "--out", s->dir,	 NULL };
+		char chunk[16];
+		const char *run[] = { "batch", "run",  s->plan,	  "--index", "env",
+				      "--out", s->dir, "--chunk", chunk,     NULL };
+
+		snprintf(chunk, sizeof(chunk), "%u", s->chunk);
+		if (s->chunk == 1)
+			run[7] = NULL;
 		const char *merge[] = { "batch",  "merge",   s->dir,   "--junit", merged[0],
 					"--html", merged[1], "--json", merged[2], NULL };
 		char path[PATH_MAX + 64];
@@ -253,6 +260,43 @@ static int submit(struct slurm *s, const char *list, unsigned n)
 	return 0;
 }
 
+/* A list of task indices ("0-3,7") as the list of the chunks of k tasks that hold them. */
+static void to_chunks(const char *tasks, unsigned k, char *buf, size_t size)
+{
+	long first = -1, last = -1;
+	size_t used = 0;
+	const char *p = tasks;
+
+	buf[0] = '\0';
+	while (*p || first >= 0) {
+		long a = -1, b = -1;
+
+		if (*p) {
+			char *end;
+
+			a = (long)(strtoul(p, &end, 10) / k);
+			b = *end == '-' ? (long)(strtoul(end + 1, &end, 10) / k) : a;
+			p = *end == ',' ? end + 1 : end;
+			if (first >= 0 && a <= last + 1) { /* joins the range so far */
+				last = b > last ? b : last;
+				continue;
+			}
+		}
+		if (first >= 0) {
+			int w = first == last ? snprintf(buf + used, size - used, "%s%ld",
+							 used ? "," : "", first) :
+						snprintf(buf + used, size - used, "%s%ld-%ld",
+							 used ? "," : "", first, last);
+
+			if (w < 0 || (size_t)w >= size - used)
+				return;
+			used += (size_t)w;
+		}
+		first = a;
+		last = b;
+	}
+}
+
 static int parse_uint(const char *s, unsigned lo, unsigned hi, unsigned *ret)
 {
 	char *end;
@@ -277,10 +321,11 @@ int hl_batch_slurm_cmd(int argc, char **argv)
 		{ "max-array-size", required_argument, NULL, 'M' },
 		{ "sbatch", required_argument, NULL, 's' },
 		{ "dry-run", no_argument, NULL, 'n' },
+		{ "chunk", required_argument, NULL, 'k' },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
-	struct slurm s = { .max_parallel = 2, .max_array = 1001, .sbatch = "sbatch" };
+	struct slurm s = { .max_parallel = 2, .max_array = 1001, .chunk = 1, .sbatch = "sbatch" };
 	char list[65536], msg[1024];
 	unsigned n;
 	ssize_t len;
@@ -310,6 +355,13 @@ int hl_batch_slurm_cmd(int argc, char **argv)
 			break;
 		case 'p':
 			s.partition = optarg;
+			break;
+		case 'k':
+			if (parse_uint(optarg, 1, 100000, &s.chunk) < 0) {
+				fprintf(stderr, PROG ": --chunk '%s': expected 1..100000\n",
+					optarg);
+				return 2;
+			}
 			break;
 		case 't':
 			s.time_limit = optarg;
@@ -364,5 +416,12 @@ int hl_batch_slurm_cmd(int argc, char **argv)
 		return 0;
 	}
 	printf("%d of %u tasks to run: %s\n", todo, n, list);
-	return submit(&s, list, n);
+	if (s.chunk > 1) {
+		char tasks[sizeof(list)];
+
+		snprintf(tasks, sizeof(tasks), "%s", list);
+		to_chunks(tasks, s.chunk, list, sizeof(list));
+		printf("as array elements of %u tasks each: %s\n", s.chunk, list);
+	}
+	return submit(&s, list, (n + s.chunk - 1) / s.chunk);
 }

@@ -256,3 +256,47 @@ def test_run_refuses_bad_input(hdlamp, lab, tmp_path):
     assert r.returncode == 2 and "bad.jsonl:2: expected task 0" in r.stderr, r.stderr
     r = run(hdlamp, "batch", "merge", tmp_path / "nowhere", ok=False)
     assert r.returncode == 2 and "nowhere/plan.jsonl" in r.stderr
+
+
+def test_slurm_submission_lists_arrays_offsets_and_chunks(hdlamp, lab, tmp_path):
+    """What hdlamp batch slurm submits (--dry-run: the sbatch commands, no cluster; the real
+    cluster runs in test_batch_slurm.py): the array list with its limit, one array per
+    --max-array-size - 1 indices with its HL_BATCH_OFFSET, chunks of tasks, and the merge job
+    depending on every array; and a task's index from the environment as an array task gets it."""
+    root, _, spec = lab
+    plan = str(tmp_path / "plan.jsonl")
+    run(hdlamp, "batch", "plan", spec, "--out", plan)
+    out = str(tmp_path / "out")
+    r = run(hdlamp, "batch", "slurm", plan, "--out", out, "--dry-run", "--max-parallel", "3",
+            "--partition", "lamps", "--time", "10", "--mem", "2G", "--max-array-size", "4")
+    lines = [line for line in r.stdout.splitlines() if line.startswith("sbatch")]
+    assert "10 of 10 tasks to run: 0-9" in r.stdout
+    assert [line.split()[3:7] for line in lines[:4]] == [
+        ["--array=0-2%3", f"--output={out}/slurm/%A_%a.out", f"--export=ALL,HL_BATCH_OFFSET={o}",
+         "--partition=lamps"] if o < 9 else
+        ["--array=0%3", f"--output={out}/slurm/%A_%a.out", "--export=ALL,HL_BATCH_OFFSET=9",
+         "--partition=lamps"] for o in (0, 3, 6, 9)]
+    assert all("--time=10" in line and "--mem=2G" in line for line in lines[:4])
+    assert "--dependency=afterany:ARRAY0:ARRAY3:ARRAY6:ARRAY9" in lines[4]
+    script = open(f"{out}/slurm/array.sh").read()
+    assert "'--index' 'env'" in script and "'--chunk'" not in script
+    # chunks of 4: tasks 0-9 are elements 0-2; with tasks 5 and 6 finished, still 1 (4 and 7)
+    r = run(hdlamp, "batch", "slurm", plan, "--out", out, "--dry-run", "--chunk", "4")
+    assert "as array elements of 4 tasks each: 0-2" in r.stdout and "--array=0-2%2" in r.stdout
+    assert "'--chunk' '4'" in open(f"{out}/slurm/array.sh").read()
+    env = dict(os.environ, SLURM_ARRAY_TASK_ID="1", HL_BATCH_OFFSET="3")  # task 4
+    r = subprocess.run([hdlamp, "batch", "run", plan, "--index", "env", "--out", out],
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0 and "task 4: passed" in r.stderr, r.stderr
+    for i in (5, 6):
+        run(hdlamp, "batch", "run", plan, "--index", i, "--out", out, ok=False)
+    r = run(hdlamp, "batch", "slurm", plan, "--out", out, "--dry-run", "--chunk", "4")
+    assert "7 of 10 tasks to run: 0-3,7-9" in r.stdout
+    assert "as array elements of 4 tasks each: 0-2" in r.stdout
+    r = run(hdlamp, "batch", "slurm", plan, "--out", out, "--dry-run", "--chunk", "2")
+    assert "as array elements of 2 tasks each: 0-1,3-4" in r.stdout, r.stdout
+    # an element of chunks runs its tasks one after the other, skipping the finished
+    r = run(hdlamp, "batch", "run", plan, "--index", "2", "--chunk", "3", "--out", out, ok=False)
+    assert "task 6 (" in r.stderr and "already finished" in r.stderr and "task 7:" in r.stderr
+    r = run(hdlamp, "batch", "run", plan, "--index", "4", "--chunk", "3", "--out", out, ok=False)
+    assert r.returncode == 2 and "the plan has 10 tasks (chunks 0..3)" in r.stderr
