@@ -45,8 +45,9 @@ static void usage(FILE *f)
 	fputs("usage: hdlamp batch run PLAN.jsonl --out DIR (--index N | --index env | --jobs J)\n"
 	      "                        [--chunk K] [--force]\n"
 	      "--index N: runs task N into DIR/N/ (report.json, junit.xml, log.txt, result.json);\n"
-	      "--index env: N from JOB_COMPLETION_INDEX (a Kubernetes Indexed Job) or\n"
-	      "SLURM_ARRAY_TASK_ID plus HL_BATCH_OFFSET (a Slurm array); --jobs J: every task not\n"
+	      "--index env: N from JOB_COMPLETION_INDEX (a Kubernetes Indexed Job),\n"
+	      "SLURM_ARRAY_TASK_ID (a Slurm array) or AWS_BATCH_JOB_ARRAY_INDEX (AWS Batch), plus\n"
+	      "HL_BATCH_OFFSET; --jobs J: every task not\n"
 	      "finished yet, J at a time, on this machine (a copy of the plan goes to\n"
 	      "DIR/plan.jsonl for hdlamp batch merge). A finished task (exit 0, 2 or 3 in its\n"
 	      "result.json) is not run again unless --force. --chunk K (with --index): tasks N*K to\n"
@@ -69,35 +70,38 @@ static int parse_index(const char *s, unsigned *ret)
 	return 0;
 }
 
-/* --index env: JOB_COMPLETION_INDEX, or SLURM_ARRAY_TASK_ID + HL_BATCH_OFFSET. */
+/*
+ * --index env: the first of these set, plus HL_BATCH_OFFSET (what hdlamp batch slurm passes an
+ * array beyond MaxArraySize): JOB_COMPLETION_INDEX (a Kubernetes Indexed Job's pod, set by the
+ * Job controller: https://kubernetes.io/docs/tasks/job/indexed-parallel-processing-static/),
+ * SLURM_ARRAY_TASK_ID (a Slurm array task: sbatch(1), "OUTPUT ENVIRONMENT VARIABLES"),
+ * AWS_BATCH_JOB_ARRAY_INDEX (an AWS Batch child array job, from 0:
+ * https://docs.aws.amazon.com/batch/latest/userguide/job_env_vars.html).
+ */
 static int index_from_env(unsigned *ret)
 {
-	const char *k8s = getenv("JOB_COMPLETION_INDEX"), *slurm = getenv("SLURM_ARRAY_TASK_ID");
+	static const char *const vars[] = { "JOB_COMPLETION_INDEX", "SLURM_ARRAY_TASK_ID",
+					    "AWS_BATCH_JOB_ARRAY_INDEX" };
 	const char *off = getenv("HL_BATCH_OFFSET");
 	unsigned i, o = 0;
 
-	if (k8s && k8s[0]) {
-		if (parse_index(k8s, ret) < 0) {
-			fprintf(stderr, PROG ": JOB_COMPLETION_INDEX '%s': expected an index\n",
-				k8s);
+	for (size_t k = 0; k < sizeof(vars) / sizeof(vars[0]); k++) {
+		const char *v = getenv(vars[k]);
+
+		if (!v || !v[0])
+			continue;
+		if (parse_index(v, &i) < 0 || (off && off[0] && parse_index(off, &o) < 0)) {
+			fprintf(stderr, PROG ": %s '%s' / HL_BATCH_OFFSET '%s': expected indices\n",
+				vars[k], v, off ? off : "");
 			return 2;
 		}
+		*ret = i + o;
 		return 0;
 	}
-	if (!slurm || !slurm[0]) {
-		fprintf(stderr, PROG ": --index env: neither JOB_COMPLETION_INDEX (Kubernetes) nor "
-				     "SLURM_ARRAY_TASK_ID (Slurm) is set\n");
-		return 2;
-	}
-	if (parse_index(slurm, &i) < 0 || (off && off[0] && parse_index(off, &o) < 0)) {
-		fprintf(stderr,
-			PROG ": SLURM_ARRAY_TASK_ID '%s' / HL_BATCH_OFFSET '%s': expected "
-			     "indices\n",
-			slurm, off ? off : "");
-		return 2;
-	}
-	*ret = i + o;
-	return 0;
+	fprintf(stderr, PROG
+		": --index env: none of JOB_COMPLETION_INDEX (Kubernetes),\n"
+		"SLURM_ARRAY_TASK_ID (Slurm) or AWS_BATCH_JOB_ARRAY_INDEX (AWS Batch) is set\n");
+	return 2;
 }
 
 static void write_started(const char *dir, unsigned index, const char *id)
