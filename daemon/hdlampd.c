@@ -315,6 +315,15 @@ static int parse_options(int argc, char **argv, struct options *o)
 	return 0;
 }
 
+static void free_overrides(struct options *o)
+{
+	for (int i = 0; i < o->n_overrides; i++) {
+		free(o->overrides[i]);
+		free(o->origins[i]);
+	}
+	o->n_overrides = 0;
+}
+
 int main(int argc, char **argv)
 {
 	struct options o;
@@ -322,8 +331,10 @@ int main(int argc, char **argv)
 
 	setvbuf(stdout, NULL, _IOLBF, 0);
 	rc = parse_options(argc, argv, &o);
-	if (rc < 0)
+	if (rc < 0) {
+		free_overrides(&o);
 		return 2; /* a usage or configuration error */
+	}
 	if (o.print_config) {
 		hl_config_print(&o.cfg, stdout);
 		rc = 0;
@@ -341,14 +352,12 @@ int main(int argc, char **argv)
 
 		if (o.print_cycles && !o.no_render) {
 			fprintf(stderr, "hdlampd: --print-cycles goes with --no-render\n");
-			return 2;
+			rc = 2;
+		} else {
+			rc = o.suite.suite ? hl_live_suite_run(&o.cfg, &args, &o.suite) :
+					     hl_live_run(&o.cfg, &args);
 		}
-		rc = o.suite.suite ? hl_live_suite_run(&o.cfg, &args, &o.suite) :
-				     hl_live_run(&o.cfg, &args);
 	}
-	for (int i = 0; i < o.n_overrides; i++) {
-		free(o.overrides[i]);
-		free(o.origins[i]);
-	}
+	free_overrides(&o);
 	return rc;
 }

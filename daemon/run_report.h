@@ -54,7 +54,7 @@ int hl_run_report_write(const struct hl_run_report_sources *s, const char *path)
  * when neither a report nor exit_at_end was asked for, else 3 when the verdict failed (and code
  * was 0), 1 when the report or the JUnit could not be written.
  */
-int hl_run_report_end(const struct hl_run_report_sources *s, const char *path,
-		      const char *junit, bool exit_at_end, int code);
+int hl_run_report_end(const struct hl_run_report_sources *s, const char *path, const char *junit,
+		      bool exit_at_end, int code);
 
 #endif

@@ -24,6 +24,7 @@
 #include "base/make_dirs.h"
 #include "base/xml_write.h"
 #include "tools/batch.h"
+#include "tools/batch_task.h"
 
 #define PROG "hdlamp batch merge"
 
@@ -129,18 +130,6 @@ static int group_add(struct hl_batch_group **g, unsigned *n, unsigned *cap, cons
 	return 0;
 }
 
-/* The file's name without its folder and its extension. */
-static void stem(const char *path, char *ret, size_t size)
-{
-	const char *b = strrchr(path, '/');
-	char *dot;
-
-	snprintf(ret, size, "%s", b ? b + 1 : path);
-	dot = strrchr(ret, '.');
-	if (dot && dot != ret)
-		*dot = '\0';
-}
-
 static int add_groups(struct merge *m, json_t *task, int status)
 {
 	struct hl_batch_summary *s = &m->s;
@@ -149,11 +138,12 @@ static int add_groups(struct merge *m, json_t *task, int status)
 	int rc = 0;
 
 	if (!strcmp(kind, "suite")) {
-		stem(str(task, "suite"), name, sizeof(name));
+		hl_batch_stem(str(task, "suite"), NULL, name, sizeof(name));
 		rc = group_add(&s->by_suite, &s->n_suite, &m->cap_suite, name, status);
 		snprintf(key, sizeof(key), "%s/%s", name, str(task, "variant"));
 	} else {
-		stem(str(task, !strcmp(kind, "drive") ? "log" : "scenario"), name, sizeof(name));
+		hl_batch_stem(str(task, !strcmp(kind, "drive") ? "log" : "scenario"), NULL, name,
+			      sizeof(name));
 		snprintf(key, sizeof(key), "%s %s", !strcmp(kind, "drive") ? "drive" : "sil", name);
 	}
 	if (!rc)
@@ -161,7 +151,7 @@ static int add_groups(struct merge *m, json_t *task, int status)
 	if (!strcmp(kind, "drive")) {
 		snprintf(key, sizeof(key), "recorded");
 	} else if (str(task, "ecu")[0]) {
-		stem(str(task, "ecu"), name, sizeof(name));
+		hl_batch_stem(str(task, "ecu"), NULL, name, sizeof(name));
 		snprintf(key, sizeof(key), "%s%s%s", name, str(task, "fault")[0] ? " + " : "",
 			 str(task, "fault"));
 	} else {

@@ -19,6 +19,7 @@
 #include "commands.h"
 #include "base/file_replace.h"
 #include "tools/batch.h"
+#include "tools/batch_task.h"
 #include "tools/suite_run.h"
 #include "verdict/suite_plan.h"
 
@@ -168,13 +169,7 @@ static int emit(struct plan *p, const char *id, const char *kind, json_t *fields
 /* "reference", or the FMU's file name without .fmu */
 static void ecu_label(const char *ecu, char *ret, size_t size)
 {
-	const char *b = strrchr(ecu, '/');
-	size_t n;
-
-	snprintf(ret, size, "%s", b ? b + 1 : ecu);
-	n = strlen(ret);
-	if (n > 4 && !strcmp(ret + n - 4, ".fmu"))
-		ret[n - 4] = '\0';
+	hl_batch_stem(ecu, ".fmu", ret, size);
 }
 
 static const char *fault_label(const char *f)
@@ -232,7 +227,8 @@ static int plan_suite(struct plan *p, json_t *entry, size_t si)
 	{
 		char prog[PATH_MAX + 128];
 
-		snprintf(prog, sizeof(prog), PROG ": %s: key 'suites[%zu].suite'", p->spec_path, si);
+		snprintf(prog, sizeof(prog), PROG ": %s: key 'suites[%zu].suite'", p->spec_path,
+			 si);
 		if (hl_cli_suite_load(prog, name, &s))
 			return 2;
 	}
@@ -300,18 +296,6 @@ out:
 	return rc;
 }
 
-/* The file's name without its folder and without ext. */
-static void stem(const char *path, const char *ext, char *ret, size_t size)
-{
-	const char *b = strrchr(path, '/');
-	size_t n;
-
-	snprintf(ret, size, "%s", b ? b + 1 : path);
-	n = strlen(ret);
-	if (n > strlen(ext) && !strcmp(ret + n - strlen(ext), ext))
-		ret[n - strlen(ext)] = '\0';
-}
-
 static int plan_scenario(struct plan *p, size_t i)
 {
 	const char *given = json_string_value(json_array_get(p->root_scenarios, i));
@@ -328,7 +312,7 @@ static int plan_scenario(struct plan *p, size_t i)
 			stat(path, &st) < 0 ? strerror(errno) : "not a file");
 		return 2;
 	}
-	stem(path, ".json", name, sizeof(name));
+	hl_batch_stem(path, ".json", name, sizeof(name));
 	for (size_t e = 0; e < json_array_size(p->ecus) && rc == 0; e++) {
 		rc = ecu_path(p, e, ecu, sizeof(ecu));
 		ecu_label(ecu, label, sizeof(label));
@@ -401,7 +385,7 @@ static int plan_drives(struct plan *p, size_t i)
 	if (n > 1)
 		qsort(names, n, sizeof(*names), by_name);
 	for (size_t k = 0; k < n && rc == 0; k++) {
-		stem(names[k], ".log", name, sizeof(name));
+		hl_batch_stem(names[k], ".log", name, sizeof(name));
 		if (snprintf(log, sizeof(log), "%s/%s", dir, names[k]) >= (int)sizeof(log) ||
 		    snprintf(scn, sizeof(scn), "%s/%s.json", dir, name) >= (int)sizeof(scn)) {
 			rc = fail(p, key, "a drive's path is too long");

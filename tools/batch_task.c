@@ -320,7 +320,7 @@ static void write_json(void *ctx, FILE *f)
 int hl_batch_result_write(const struct hl_batch_task *t, const char *dir,
 			  struct hl_batch_outcome *oc, char *msg, size_t msg_size)
 {
-	char path[PATH_MAX + 32], host[256] = "", why[512] = "";
+	char path[PATH_MAX + 32], host[256] = "", why[448] = "";
 	long tests = 0, failures = 0, errors = 0;
 	json_t *j = t->json, *res;
 	int rc;
@@ -337,9 +337,10 @@ int hl_batch_result_write(const struct hl_batch_task *t, const char *dir,
 		oc->status = HL_BATCH_ERROR;
 	} else if (oc->stop_signal) {
 		oc->status = HL_BATCH_ERROR;
-		snprintf(oc->reason, sizeof(oc->reason),
-			 "stopped by SIG%s (scancel, the scheduler's time limit or a node shutdown)",
-			 sigabbrev_np(oc->stop_signal) ?: "?");
+		snprintf(
+			oc->reason, sizeof(oc->reason),
+			"stopped by SIG%s (scancel, the scheduler's time limit or a node shutdown)",
+			sigabbrev_np(oc->stop_signal) ?: "?");
 		oc->exit = 1;
 	} else if (oc->signal) {
 		oc->status = HL_BATCH_ERROR;
@@ -462,4 +463,23 @@ int hl_batch_unfinished_list(const char *plan, const char *dir, char *buf, size_
 	free(line);
 	fclose(f);
 	return (int)count;
+}
+
+void hl_batch_stem(const char *path, const char *ext, char *ret, size_t size)
+{
+	const char *b = strrchr(path, '/');
+	size_t n;
+	char *dot;
+
+	b = b ? b + 1 : path;
+	n = strnlen(b, size - 1);
+	memcpy(ret, b, n);
+	ret[n] = '\0';
+	if (!ext) {
+		dot = strrchr(ret, '.');
+		if (dot && dot != ret)
+			*dot = '\0';
+	} else if (n > strlen(ext) && !strcmp(ret + n - strlen(ext), ext)) {
+		ret[n - strlen(ext)] = '\0';
+	}
 }

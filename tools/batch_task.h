@@ -55,6 +55,12 @@ int hl_batch_result_write(const struct hl_batch_task *t, const char *dir,
 
 const char *hl_batch_status_name(enum hl_batch_status s);
 
+/*
+ * path's file name without its folder and without ext (NULL: without its last extension), cut
+ * to size: what the ids and the merge's groups call a scenario, drive, suite or FMU.
+ */
+void hl_batch_stem(const char *path, const char *ext, char *ret, size_t size);
+
 /* out/plan.jsonl made a copy of plan (nothing when it already is plan). 0 or -errno. */
 int hl_batch_copy_plan(const char *plan, const char *out);
 

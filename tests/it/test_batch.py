@@ -288,6 +288,11 @@ def test_slurm_submission_lists_arrays_offsets_and_chunks(hdlamp, lab, tmp_path)
     r = subprocess.run([hdlamp, "batch", "run", plan, "--index", "env", "--out", out],
                        capture_output=True, text=True, env=env)
     assert r.returncode == 0 and "task 4: passed" in r.stderr, r.stderr
+    for var in ("JOB_COMPLETION_INDEX", "AWS_BATCH_JOB_ARRAY_INDEX"):  # Kubernetes, AWS Batch
+        env = {k: v for k, v in os.environ.items() if not k.startswith("SLURM_")}
+        r = subprocess.run([hdlamp, "batch", "run", plan, "--index", "env", "--out", out],
+                           capture_output=True, text=True, env=dict(env, **{var: "4"}))
+        assert r.returncode == 0 and "task 4 (" in r.stderr and "already finished" in r.stderr
     for i in (5, 6):
         run(hdlamp, "batch", "run", plan, "--index", i, "--out", out, ok=False)
     r = run(hdlamp, "batch", "slurm", plan, "--out", out, "--dry-run", "--chunk", "4")
