@@ -481,10 +481,28 @@ static void write_json(void *ctx, FILE *f)
 	free(text);
 }
 
+/* s as a URL path: every byte but A-Z a-z 0-9 - . _ ~ / : percent-encoded (RFC 3986, 2.1). */
+static void url_encode(const char *s, char *ret, size_t size)
+{
+	size_t used = 0;
+
+	for (; *s && used + 4 < size; s++) {
+		unsigned char c = (unsigned char)*s;
+
+		if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+		    strchr("-._~/:", c))
+			ret[used++] = (char)c;
+		else
+			used += (size_t)snprintf(ret + used, size - used, "%%%02X", c);
+	}
+	ret[used] = '\0';
+}
+
 /* The page's folder made; its links to the tasks relative to it. */
 static int html_out(struct merge *m, const char *path)
 {
 	char dir[PATH_MAX], rdir[PATH_MAX], rtasks[PATH_MAX], prefix[PATH_MAX * 2];
+	char url[PATH_MAX * 6];
 	const char *slash = strrchr(path, '/');
 	int rc;
 
@@ -521,7 +539,8 @@ static int html_out(struct merge *m, const char *path)
 				snprintf(prefix, sizeof(prefix), "file://%s/", rtasks);
 		}
 	}
-	return hl_batch_html_write(&m->s, prefix, path);
+	url_encode(prefix, url, sizeof(url));
+	return hl_batch_html_write(&m->s, url, path);
 }
 
 static int parent_dirs(const char *path)
