@@ -28,3 +28,22 @@ int hl_file_replace(const char *path, void (*write)(void *ctx, FILE *f), void *c
 		unlink(tmp);
 	return rc;
 }
+
+struct bytes {
+	const void *buf;
+	size_t len;
+};
+
+static void put_bytes(void *ctx, FILE *f)
+{
+	const struct bytes *b = ctx;
+
+	fwrite(b->buf, 1, b->len, f);
+}
+
+int hl_file_replace_bytes(const char *path, const void *buf, size_t len)
+{
+	struct bytes b = { buf, len };
+
+	return hl_file_replace(path, put_bytes, &b);
+}

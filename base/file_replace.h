@@ -11,5 +11,7 @@
 
 /* write(ctx, f) writes the content. 0, -ENAMETOOLONG, -EIO (a write failed), -errno. */
 int hl_file_replace(const char *path, void (*write)(void *ctx, FILE *f), void *ctx);
+/* The same for content already in memory (a page composed whole). */
+int hl_file_replace_bytes(const char *path, const void *buf, size_t len);
 
 #endif

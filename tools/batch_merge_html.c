@@ -394,22 +394,9 @@ static void page(FILE *f, const struct hl_batch_summary *s, const char *prefix)
 	fputs("</body>\n</html>\n", f);
 }
 
-struct composed {
-	const char *buf;
-	size_t len;
-};
-
-static void put(void *ctx, FILE *f)
-{
-	const struct composed *c = ctx;
-
-	fwrite(c->buf, 1, c->len, f);
-}
-
 int hl_batch_html_write(const struct hl_batch_summary *s, const char *task_href_prefix,
 			const char *path)
 {
-	struct composed c;
 	char *buf = NULL;
 	size_t len = 0;
 	FILE *m;
@@ -425,9 +412,7 @@ int hl_batch_html_write(const struct hl_batch_summary *s, const char *task_href_
 	if (fclose(m) != 0 && rc == 0)
 		rc = -ENOMEM;
 	if (rc == 0) {
-		c.buf = buf;
-		c.len = len;
-		rc = hl_file_replace(path, put, &c);
+		rc = hl_file_replace_bytes(path, buf, len);
 	}
 	free(buf);
 	return rc;

@@ -371,21 +371,8 @@ static int page(FILE *f, const struct hl_suite_result *r)
 	return 0;
 }
 
-struct composed {
-	const char *buf;
-	size_t len;
-};
-
-static void put(void *ctx, FILE *f)
-{
-	const struct composed *c = ctx;
-
-	fwrite(c->buf, 1, c->len, f);
-}
-
 int hl_suite_html_write(const struct hl_suite_result *r, const char *path)
 {
-	struct composed c;
 	char *buf = NULL;
 	size_t len = 0;
 	FILE *m = open_memstream(&buf, &len);
@@ -397,9 +384,7 @@ int hl_suite_html_write(const struct hl_suite_result *r, const char *path)
 	if (fclose(m) != 0 && rc == 0)
 		rc = -ENOMEM;
 	if (rc == 0) {
-		c.buf = buf;
-		c.len = len;
-		rc = hl_file_replace(path, put, &c);
+		rc = hl_file_replace_bytes(path, buf, len);
 	}
 	free(buf);
 	return rc;
