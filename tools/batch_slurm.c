@@ -329,7 +329,7 @@ int hl_batch_slurm_cmd(int argc, char **argv)
 	char list[65536], msg[1024];
 	unsigned n;
 	ssize_t len;
-	int c, todo, rc;
+	int c, to_run, rc;
 
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
@@ -404,18 +404,18 @@ int hl_batch_slurm_cmd(int argc, char **argv)
 	s.self[len] = '\0';
 	/* a max array index is MaxArraySize - 1 */
 	s.max_array = s.max_array - 1;
-	todo = hl_batch_unfinished_list(s.plan, s.dir, list, sizeof(list), msg, sizeof(msg));
-	if (todo < 0) {
+	to_run = hl_batch_unfinished_list(s.plan, s.dir, list, sizeof(list), msg, sizeof(msg));
+	if (to_run < 0) {
 		fprintf(stderr, PROG ": %s\n", msg);
 		return 2;
 	}
-	if (todo == 0) {
+	if (to_run == 0) {
 		printf("all %u tasks of %s have a finished result: nothing to submit (hdlamp batch "
 		       "merge %s merges them)\n",
 		       n, s.plan, s.dir);
 		return 0;
 	}
-	printf("%d of %u tasks to run: %s\n", todo, n, list);
+	printf("%d of %u tasks to run: %s\n", to_run, n, list);
 	if (s.chunk > 1) {
 		char tasks[sizeof(list)];
 

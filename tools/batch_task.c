@@ -432,17 +432,17 @@ int hl_batch_unfinished_list(const char *plan, const char *dir, char *buf, size_
 	if (getline(&line, &cap, f) < 0) /* the header */
 		n = 0;
 	for (unsigned i = 0; i <= n; i++) {
-		bool todo = false;
+		bool to_run = false;
 
 		if (i < n) {
 			json_t *j = getline(&line, &cap, f) >= 0 ? json_loads(line, 0, NULL) : NULL;
 
-			todo = !hl_batch_task_finished(dir, i, j ? str(j, "id") : "");
+			to_run = !hl_batch_task_finished(dir, i, j ? str(j, "id") : "");
 			json_decref(j);
 		}
-		if (todo && start < 0)
+		if (to_run && start < 0)
 			start = i;
-		if (!todo && start >= 0) {
+		if (!to_run && start >= 0) {
 			int w = (unsigned)start == i - 1 ?
 					snprintf(buf + used, buf_size - used, "%s%ld",
 						 used ? "," : "", start) :
