@@ -194,6 +194,9 @@ static enum hl_surface actor_surface(const struct hl_actor *a)
 	case HL_ACTOR_CYCLIST:
 		return HL_SURF_CYCLIST;
 	case HL_ACTOR_CAR:
+	case HL_ACTOR_TRUCK:
+	case HL_ACTOR_MOTORBIKE:
+	case HL_ACTOR_KINDS:
 		break;
 	}
 	return HL_SURF_VEHICLE;
@@ -253,6 +256,8 @@ static int gather(struct hl_world_scene *ws, const struct hl_world_state *st, co
 	for (int i = 0; i < st->n_actors && i < sc->n_actors; i++) {
 		struct object ob;
 
+		if (!hl_world_present(st, i))
+			continue;
 		actor_object(sc, st, i, &ob);
 		bound(v, &ob);
 		if (!in_band(v, &ob, row0, row1))
@@ -598,7 +603,7 @@ int hl_world_scene_emitters(const struct hl_world_scene *ws, const struct hl_wor
 	view_init(cam, &v);
 	for (int i = 0; i < st->n_actors && i < sc->n_actors; i++) {
 		const struct hl_actor *a = &sc->actor[i];
-		const bool lit = i < 32 && (st->lamps_on >> i) & 1u;
+		const bool lit = hl_world_present(st, i) && (st->lamps_on >> i) & 1u;
 		const double rel = st->actor[i].heading_rad - st->ego.heading_rad;
 		const double fwd[3] = { cos(rel), sin(rel), 0.0 };
 
@@ -627,6 +632,8 @@ int hl_world_scene_emitters(const struct hl_world_scene *ws, const struct hl_wor
 			for (int k = 0; e->visible && k < st->n_actors && k < sc->n_actors; k++) {
 				struct object ob;
 
+				if (!hl_world_present(st, k))
+					continue;
 				actor_object(sc, st, k, &ob);
 				box_hit(&ob, cam->pos_m, d, &best);
 			}

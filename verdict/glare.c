@@ -152,6 +152,18 @@ int hl_glare_eval(const struct hl_glare *g, double t_s, const float *const dense
 	return hl_glare_eval_world(g, &w, dense, ret);
 }
 
+/* A road user not in the world: nothing measured, nothing to judge. */
+static void absent(struct hl_glare_result *r)
+{
+	for (int k = 0; k < 3; k++)
+		r->eye_m[k] = NAN;
+	for (int l = 0; l < 2; l++)
+		r->h_deg[l] = r->v_deg[l] = r->r_m[l] = r->intensity_cd[l] = NAN;
+	r->pair_half_cd = r->illuminance_lx = r->distance_m = r->axis_h_deg = NAN;
+	r->limit = (struct hl_glare_limit){ .max_cd = NAN, .table_distance_m = NAN, .req = -1 };
+	r->pass = true;
+}
+
 int hl_glare_eval_world(const struct hl_glare *g, const struct hl_world_state *w,
 			const float *const dense[2], struct hl_glare_result *ret)
 {
@@ -172,6 +184,11 @@ int hl_glare_eval_world(const struct hl_glare *g, const struct hl_world_state *w
 		memset(r, 0, sizeof(*r));
 		r->actor = i;
 		r->t_s = w->t_s;
+		if (!hl_world_present(w, i)) {
+			absent(r);
+			continue;
+		}
+		r->present = true;
 		hl_world_actor_eye(sc, i, &w->actor[i], r->eye_m);
 		for (int l = 0; l < 2; l++) {
 			double p[3], h, v;

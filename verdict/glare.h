@@ -56,6 +56,7 @@ struct hl_glare_result {
 	double axis_h_deg; /* the eye's H from the lamps' midpoint about the vehicle's axis */
 	struct hl_glare_limit limit;
 	bool pass; /* pair_half_cd <= limit.max_cd; true without a limit */
+	bool present; /* the road user is in the world; if not: NAN values, no limit, pass */
 };
 
 struct hl_glare;

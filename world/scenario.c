@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Scenario files (docs/scenarios.md) read with jansson and checked key by key. */
 #include "world/scenario.h"
+#include "world/track.h"
 
 #include <errno.h>
 #include <jansson.h>
@@ -394,9 +395,13 @@ static const struct kind_defaults defaults[] = {
 	[HL_ACTOR_CAR] = { { 4.5, 1.8, 1.45 }, 0.3, { -1.8, 0.37, 1.1 } },
 	[HL_ACTOR_PEDESTRIAN] = { { 0.3, 0.5, 1.75 }, 0.2, { -0.15, 0.0, 1.6 } },
 	[HL_ACTOR_CYCLIST] = { { 1.8, 0.6, 1.75 }, 0.2, { -1.0, 0.0, 1.6 } },
+	[HL_ACTOR_TRUCK] = { { 12.0, 2.55, 3.8 }, 0.3, { -1.2, 0.6, 2.5 } },
+	[HL_ACTOR_MOTORBIKE] = { { 2.2, 0.8, 1.4 }, 0.2, { -1.3, 0.0, 1.45 } },
 };
 
-static const char *const kind_names[] = { "car", "pedestrian", "cyclist", NULL };
+static const char *const kind_names[] = {
+	"car", "pedestrian", "cyclist", "truck", "motorbike", NULL
+};
 static const char *const role_names[] = { "oncoming", "preceding", "crossing", "roadside", NULL };
 static const char *const emitter_names[] = { "headlamp", "tail", NULL };
 static const char *const colour_names[] = { "white", "red", "amber", NULL };
@@ -405,20 +410,51 @@ static const double colours[][3] = { { 1.0, 1.0, 1.0 }, { 1.0, 0.0, 0.0 }, { 1.0
 #define HEADLAMP_CD 350.0 /* UN R149 class C passing beam at B50L, the oncoming driver: max */
 #define TAIL_CD 10.0 /* a rear position lamp */
 
-/* A car's default lamps: two headlamps at the front, two tail lamps at the back. */
-static void car_lamps(struct hl_actor *a)
+/*
+ * A vehicle's default lamps: two headlamps at the front and two tail lamps at the back (a car's
+ * 1.3 m apart, a truck's 2.0 m), a motorbike's one of each on its axis; none for the others.
+ */
+static void kind_lamps(struct hl_actor *a)
 {
-	a->n_lamps = 4;
-	for (int l = 0; l < 2; l++) {
-		const double y = l ? -0.65 : 0.65;
+	const int two = a->kind == HL_ACTOR_CAR || a->kind == HL_ACTOR_TRUCK;
+	const double half = a->kind == HL_ACTOR_TRUCK ? 1.0 : 0.65;
+	const double z_head = a->kind == HL_ACTOR_TRUCK ? 1.0 : 0.65;
 
-		a->lamp[l] = (struct hl_emitter){
-			HL_EMITTER_HEADLAMP, { 0.0, y, 0.65 }, HEADLAMP_CD, { 1.0, 1.0, 1.0 }
-		};
-		a->lamp[2 + l] = (struct hl_emitter){
-			HL_EMITTER_TAIL, { -a->size_m[0], y, 0.8 }, TAIL_CD, { 1.0, 0.0, 0.0 }
-		};
+	if (!two && a->kind != HL_ACTOR_MOTORBIKE) {
+		a->n_lamps = 0;
+		return;
 	}
+	a->n_lamps = two ? 4 : 2;
+	for (int l = 0; l < (two ? 2 : 1); l++) {
+		const double y = two ? (l ? -half : half) : 0.0;
+
+		a->lamp[l] = (struct hl_emitter){ HL_EMITTER_HEADLAMP,
+						  { 0.0, y, two ? z_head : 1.0 },
+						  HEADLAMP_CD,
+						  { 1.0, 1.0, 1.0 } };
+		a->lamp[(two ? 2 : 1) + l] =
+			(struct hl_emitter){ HL_EMITTER_TAIL,
+					     { -a->size_m[0], y, two ? 0.8 : 0.9 },
+					     TAIL_CD,
+					     { 1.0, 0.0, 0.0 } };
+	}
+}
+
+void hl_actor_init(struct hl_actor *a, const char *id, enum hl_actor_kind kind,
+		   enum hl_actor_role role, const double size_m[3])
+{
+	*a = (struct hl_actor){ .kind = kind, .role = role };
+	snprintf(a->id, sizeof(a->id), "%s", id);
+	memcpy(a->size_m, size_m ? size_m : defaults[kind].size_m, sizeof(a->size_m));
+	a->reflectance = defaults[kind].reflectance;
+	memcpy(a->eye_m, defaults[kind].eye_m, sizeof(a->eye_m));
+	if (kind == HL_ACTOR_PEDESTRIAN || kind == HL_ACTOR_CYCLIST)
+		a->eye_m[0] = -a->size_m[0] / 2; /* over the middle of the body */
+	kind_lamps(a);
+	a->path = (struct hl_path){ .kind = HL_PATH_WAYPOINTS, .n_waypoints = 1 };
+	a->path.speed.n = 1;
+	hl_speed_layout(&a->path.speed);
+	hl_waypoints_layout(&a->path, 0.0);
 }
 
 static int parse_emitters(const struct hl_json_ctx *c, const char *path, const struct json_t *j,
@@ -481,24 +517,24 @@ static int parse_actor(const struct hl_json_ctx *c, const char *path, const stru
 				c, hl_json_join(sub, sizeof(sub), path, "id"),
 				"'%s' is the id of actors[%d] already: expected a new one", a->id,
 				k);
-	a->kind = (enum hl_actor_kind)kind;
-	a->role = (enum hl_actor_role)role;
-	memcpy(a->size_m, defaults[kind].size_m, sizeof(a->size_m));
-	a->reflectance = defaults[kind].reflectance;
-	o = json_object_get(j, "body");
-	if (o &&
-	    (hl_json_check_object(c, hl_json_join(sub, sizeof(sub), path, "body"), o, body_keys) <
-		     0 ||
-	     hl_json_get_vec3(c, sub, o, "size_m", false, r_size, a->size_m) < 0 ||
-	     hl_json_get_number(c, sub, o, "reflectance", false, &r_refl, &a->reflectance) < 0))
-		return -EBADMSG;
-	memcpy(a->eye_m, defaults[kind].eye_m, sizeof(a->eye_m));
-	if (kind != HL_ACTOR_CAR)
-		a->eye_m[0] = -a->size_m[0] / 2; /* over the middle of the body */
+	{
+		char id[HL_SCN_ID_MAX];
+		double size_m[3], refl;
+
+		memcpy(size_m, defaults[kind].size_m, sizeof(size_m));
+		refl = defaults[kind].reflectance;
+		o = json_object_get(j, "body");
+		if (o && (hl_json_check_object(c, hl_json_join(sub, sizeof(sub), path, "body"), o,
+					       body_keys) < 0 ||
+			  hl_json_get_vec3(c, sub, o, "size_m", false, r_size, size_m) < 0 ||
+			  hl_json_get_number(c, sub, o, "reflectance", false, &r_refl, &refl) < 0))
+			return -EBADMSG;
+		memcpy(id, a->id, sizeof(id));
+		hl_actor_init(a, id, (enum hl_actor_kind)kind, (enum hl_actor_role)role, size_m);
+		a->reflectance = refl;
+	}
 	if (hl_json_get_vec3(c, path, j, "eye_m", false, r_vehicle, a->eye_m) < 0)
 		return -EBADMSG;
-	if (kind == HL_ACTOR_CAR)
-		car_lamps(a);
 	o = json_object_get(j, "lamps");
 	if (o && parse_emitters(c, hl_json_join(sub, sizeof(sub), path, "lamps"), o, a) < 0)
 		return -EBADMSG;
@@ -577,6 +613,8 @@ int hl_scenario_read(const char *path, struct hl_scenario **ret, struct hl_json_
 
 void hl_scenario_free(struct hl_scenario *sc)
 {
+	if (sc)
+		hl_world_track_free(sc->track);
 	free(sc);
 }
 
@@ -587,7 +625,7 @@ int hl_scenario_default_dir(char *buf, size_t size)
 
 const char *hl_actor_kind_name(enum hl_actor_kind kind)
 {
-	return (unsigned)kind < 3 ? kind_names[kind] : "?";
+	return (unsigned)kind < HL_ACTOR_KINDS ? kind_names[kind] : "?";
 }
 
 const char *hl_actor_role_name(enum hl_actor_role role)

@@ -31,7 +31,14 @@
 #define HL_SCN_ID_MAX 48
 #define HL_SCN_TEXT_MAX 256
 
-enum hl_actor_kind { HL_ACTOR_CAR, HL_ACTOR_PEDESTRIAN, HL_ACTOR_CYCLIST };
+enum hl_actor_kind {
+	HL_ACTOR_CAR,
+	HL_ACTOR_PEDESTRIAN,
+	HL_ACTOR_CYCLIST,
+	HL_ACTOR_TRUCK,
+	HL_ACTOR_MOTORBIKE,
+	HL_ACTOR_KINDS
+};
 enum hl_actor_role { HL_ROLE_ONCOMING, HL_ROLE_PRECEDING, HL_ROLE_CROSSING, HL_ROLE_ROADSIDE };
 enum hl_emitter_kind { HL_EMITTER_HEADLAMP, HL_EMITTER_TAIL };
 
@@ -62,6 +69,8 @@ struct hl_ego {
 	struct hl_camera camera; /* the driver's camera, vehicle frame (width/height 0) */
 };
 
+struct hl_world_track;
+
 struct hl_scenario {
 	char title[HL_SCN_TEXT_MAX];
 	double duration_s;
@@ -69,6 +78,8 @@ struct hl_scenario {
 	struct hl_ego ego;
 	int n_actors;
 	struct hl_actor actor[HL_SCN_MAX_ACTORS];
+	/* A recording's poses (world/track.h, e.g. an OSI trace), owned; NULL: the paths'. */
+	struct hl_world_track *track;
 };
 
 /*
@@ -90,6 +101,12 @@ void hl_scenario_free(struct hl_scenario *sc);
 int hl_scenario_default_dir(char *buf, size_t size);
 
 const char *hl_actor_kind_name(enum hl_actor_kind kind);
+/*
+ * A road user of kind with the kind's defaults (docs/scenarios.md): body (size_m NULL: the
+ * kind's), reflectance, eye point, lamps; path standing still at the origin.
+ */
+void hl_actor_init(struct hl_actor *a, const char *id, enum hl_actor_kind kind,
+		   enum hl_actor_role role, const double size_m[3]);
 const char *hl_actor_role_name(enum hl_actor_role role);
 
 #endif

@@ -3,6 +3,8 @@
 
 #include <math.h>
 
+#include "world/track.h"
+
 #define DEG (M_PI / 180.0)
 
 void hl_world_ego_lamps(const struct hl_scenario *sc, const struct hl_body_pose *ego,
@@ -23,16 +25,25 @@ void hl_world_actor_eye(const struct hl_scenario *sc, int i, const struct hl_bod
 
 void hl_world_at(const struct hl_scenario *sc, double t_s, struct hl_world_state *ret)
 {
+	if (sc->track) {
+		hl_world_track_at(sc->track, t_s, ret);
+		return;
+	}
 	ret->t_s = t_s;
 	hl_world_ego_pose_at(sc, t_s, &ret->ego);
 	ret->n_actors = sc->n_actors;
 	for (int i = 0; i < sc->n_actors; i++)
 		hl_world_actor_pose_at(sc, i, t_s, &ret->actor[i]);
 	ret->lamps_on = sc->n_actors >= 32 ? UINT32_MAX : (1u << sc->n_actors) - 1u;
+	ret->present = ret->lamps_on;
 }
 
 void hl_world_ego_pose_at(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret)
 {
+	if (sc->track) {
+		*ret = hl_world_track_state(sc->track, hl_world_track_index(sc->track, t_s))->ego;
+		return;
+	}
 	hl_path_pose(&sc->road, &sc->ego.path, t_s, ret);
 }
 
@@ -70,6 +81,11 @@ void hl_world_ego_camera_at(const struct hl_scenario *sc, double t_s, int width,
 void hl_world_actor_pose_at(const struct hl_scenario *sc, int i, double t_s,
 			    struct hl_body_pose *ret)
 {
+	if (sc->track) {
+		*ret = hl_world_track_state(sc->track, hl_world_track_index(sc->track, t_s))
+			       ->actor[i];
+		return;
+	}
 	hl_path_pose(&sc->road, &sc->actor[i].path, t_s, ret);
 }
 

@@ -13,6 +13,7 @@
 #ifndef HL_WORLD_WORLD_H
 #define HL_WORLD_WORLD_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "world/scenario.h"
@@ -24,9 +25,19 @@ struct hl_world_state {
 	int n_actors; /* the scenario's road users, in its order */
 	struct hl_body_pose actor[HL_SCN_MAX_ACTORS];
 	uint32_t lamps_on; /* bit i: road user i's lamps are lit */
+	uint32_t present; /* bit i: road user i is in the world (a recording's may leave) */
 };
 
-/* The scenario's state at time t: every pose from its paths, every road user's lamps lit. */
+/* Whether road user i is in the world state (drawn, judged, reported). */
+static inline bool hl_world_present(const struct hl_world_state *w, int i)
+{
+	return i >= 0 && i < w->n_actors && i < 32 && (w->present >> i) & 1u;
+}
+
+/*
+ * The scenario's state at time t: every pose from its paths, every road user present with its
+ * lamps lit; a scenario with a recorded track (world/track.h): the track's state at t.
+ */
 void hl_world_at(const struct hl_scenario *sc, double t_s, struct hl_world_state *ret);
 
 /* The ego lamps' poses in the world frame for an ego pose (as hl_world_ego_lamps_at()). */

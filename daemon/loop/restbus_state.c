@@ -152,6 +152,8 @@ void hl_restbus_objects(const struct hl_scenario *sc, const struct hl_world_stat
 		struct hl_camera_object o;
 		int j;
 
+		if (!hl_world_present(w, i))
+			continue;
 		if (!hl_restbus_object(sc, w, i, cam, &o)) {
 			ret_unseen->behind++;
 			continue;
