@@ -25,6 +25,11 @@
 #define HL_OSI_MAX_BOUNDARIES 128 /* lane boundaries in one message */
 #define HL_OSI_MAX_POINTS 16384 /* boundary points in one message, all boundaries */
 
+/* The OSI release whose field numbers world/osi.proto follows; hl_osi_encode() writes it. */
+#define HL_OSI_VERSION_MAJOR 3
+#define HL_OSI_VERSION_MINOR 7
+#define HL_OSI_VERSION_PATCH 0
+
 /* Which message a buffer holds (the wire format does not say; the source does). */
 enum hl_osi_kind { HL_OSI_GROUND_TRUTH, HL_OSI_SENSOR_VIEW };
 
@@ -43,7 +48,7 @@ enum hl_osi_vehicle_type {
 	HL_OSI_VEHICLE_OTHER = 1,
 	HL_OSI_VEHICLE_SMALL_CAR = 2,
 	HL_OSI_VEHICLE_COMPACT_CAR = 3,
-	HL_OSI_VEHICLE_MEDIUM_CAR = 4, /* OSI 3.6+ also names it TYPE_CAR */
+	HL_OSI_VEHICLE_MEDIUM_CAR = 4, /* OSI 3.7.0 also names it TYPE_CAR */
 	HL_OSI_VEHICLE_LUXURY_CAR = 5,
 	HL_OSI_VEHICLE_DELIVERY_VAN = 6,
 	HL_OSI_VEHICLE_HEAVY_TRUCK = 7,
@@ -55,7 +60,8 @@ enum hl_osi_vehicle_type {
 	HL_OSI_VEHICLE_TRAM = 13,
 	HL_OSI_VEHICLE_TRAIN = 14,
 	HL_OSI_VEHICLE_WHEELCHAIR = 15,
-	/* 16 and above: later OSI versions' additions (semitractor, scooters, ...) */
+	/* 16 and above: later OSI versions' additions (3.7.0: 16 semitractor, 17 stand-up
+	   scooter; more after it) */
 };
 
 /* osi3::MovingObject::VehicleClassification::LightState::GenericLightState. */
@@ -100,6 +106,8 @@ struct hl_osi_object {
 	int head_light; /* light_state.head_light: enum hl_osi_light */
 	int high_beam; /* light_state.high_beam */
 	int brake_light; /* light_state.brake_light_state (OSI's BrakeLightState numbers) */
+	int tail_light; /* light_state.tail_light, the rear position light: enum hl_osi_light
+			   (OSI 3.8.0-rc1 on; 0 from an older producer) */
 	double dim_m[3]; /* base.dimension: length, width, height */
 	double pos_m[3]; /* base.position: the bounding box's centre */
 	double rpy_rad[3]; /* base.orientation: roll, pitch, yaw */
@@ -115,8 +123,11 @@ struct hl_osi_boundary {
 
 struct hl_osi_frame {
 	enum hl_osi_kind kind; /* what was decoded */
+	bool has_version;
+	unsigned version[3]; /* version: the sender's OSI major, minor, patch */
 	bool has_timestamp;
-	int64_t t_ns; /* timestamp: seconds * 1e9 + nanos */
+	int64_t t_ns; /* timestamp: seconds * 1e9 + nanos (SensorView: its own, else the ground
+			 truth's) */
 	bool has_host;
 	uint64_t host_id; /* GroundTruth.host_vehicle_id (SensorView: its own, else the ground
 			     truth's) */
@@ -143,16 +154,20 @@ void hl_osi_frame_free(struct hl_osi_frame *f);
 /*
  * Decodes buf (len bytes) as a message of kind into *ret (overwritten whole). why (may be
  * NULL) says what is wrong. Unknown fields are skipped; nothing is checked beyond the wire
- * format and the limits (NaN, absurd values and a missing host are the world's to judge).
+ * format, the limits and a timestamp that int64 nanoseconds cannot hold (MALFORMED): NaN,
+ * absurd values and a missing host are the world's to judge. A SensorView's objects and
+ * boundaries are those of its global_ground_truth.
  */
 enum hl_osi_decode_result hl_osi_decode(const uint8_t *buf, size_t len, enum hl_osi_kind kind,
 					struct hl_osi_frame *ret, char *why, size_t why_size);
 
 /*
  * Encodes f as a message of kind (f->kind is ignored) into a new buffer *ret_buf (the
- * caller's, free()) of *ret_len bytes. Writes the fields above that are set (not NAN; the
- * sub-messages of has_*), the interface version OSI 3.x we follow, and nothing else. 0 or
- * -ENOMEM.
+ * caller's, free()) of *ret_len bytes. Writes the fields above that are set (not NAN, not 0
+ * for the enumerations; the sub-messages of has_*), the interface version HL_OSI_VERSION_*
+ * (f->version is ignored), and nothing else; a SensorView carries the timestamp, host and
+ * version both itself and in its global_ground_truth. 0, -EINVAL (counts beyond the limits, a
+ * boundary's points outside f->point) or -ENOMEM.
  */
 int hl_osi_encode(const struct hl_osi_frame *f, enum hl_osi_kind kind, uint8_t **ret_buf,
 		  size_t *ret_len);
