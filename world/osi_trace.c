@@ -171,8 +171,7 @@ int hl_osi_trace_get(const struct hl_osi_trace *t, size_t i, struct hl_osi_trace
 		return -ERANGE;
 	ret->offset = t->entry[i].offset;
 	ret->len = t->entry[i].len;
-	/* An empty message may sit at the very end of the map: point at the map, not past it. */
-	ret->buf = t->map ? t->map + t->entry[i].offset : (const uint8_t *)"";
+	ret->buf = t->map + t->entry[i].offset; /* one past the end for an empty last message */
 	return 0;
 }
 

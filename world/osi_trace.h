@@ -8,6 +8,8 @@
  * are then a pointer into the map. A cut last message (a partial length prefix, or a prefix
  * promising more bytes than remain) is reported, not fatal: the messages before it stay usable.
  * A length over HL_OSI_TRACE_MAX_MSG is taken as corruption and the file is refused.
+ * The file must not shrink while a trace of it is open (reading a map past a file's end faults);
+ * one still growing is fine, what was added after the open is not seen.
  *
  * Thread-safety: after hl_osi_trace_open() returns, a trace is read-only: hl_osi_trace_count()
  * and hl_osi_trace_get() may be called from any number of threads at once; hl_osi_trace_free()
