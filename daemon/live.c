@@ -59,6 +59,7 @@ struct live {
 	const struct hl_scenario *sc; /* the scene's parts (NULL without one) */
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose;
+	struct hl_osi_input *osi; /* scene.world osi:udp: */
 	/* the loop's latency and glare verdict (a scenario with a restbus or a report) */
 	struct hl_live_loop *loop_judge;
 	struct hl_loop_latency *loop; /* loop_judge's */
@@ -175,11 +176,12 @@ static int setup_parts(struct live *lv)
 	lv->sc = hl_live_scene_scenario(lv->scene);
 	lv->glare = hl_live_scene_glare(lv->scene);
 	lv->pose = hl_live_scene_pose(lv->scene);
+	lv->osi = hl_live_scene_osi(lv->scene);
 	rc = hl_live_loop_new(&lv->cfg, lv->sc, &lv->loop_judge, &lv->config_error);
 	if (rc < 0)
 		return rc;
 	lv->loop = hl_live_loop_latency(lv->loop_judge);
-	return hl_live_restbus_new(&lv->cfg, lv->sc, lv->pose, lv->loop, &lv->restbus,
+	return hl_live_restbus_new(&lv->cfg, lv->sc, lv->pose, lv->osi, lv->loop, &lv->restbus,
 				   &lv->config_error);
 }
 
@@ -199,6 +201,8 @@ static int setup_renderer(struct live *lv, int n_src)
 		.sc = lv->sc,
 		.glare = lv->glare,
 		.pose = lv->pose,
+		.osi = lv->osi,
+		.osi_replay = hl_live_scene_osi_replay(lv->scene),
 		.restbus = lv->restbus,
 		.loop = lv->loop,
 		.ecu = lv->ecu,
@@ -211,6 +215,11 @@ static int setup_renderer(struct live *lv, int n_src)
 		rc = hl_pose_input_start(lv->pose);
 		if (rc < 0)
 			hl_live_log("cannot start the pose input: %s", strerror(-rc));
+	}
+	if (rc == 0 && lv->osi) {
+		rc = hl_osi_input_start(lv->osi);
+		if (rc < 0)
+			hl_live_log("cannot start the OSI input: %s", strerror(-rc));
 	}
 	if (rc == 0 && lv->restbus) {
 		/* on the render thread's scenario clock */

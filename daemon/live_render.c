@@ -209,6 +209,8 @@ static int setup_renderer(struct hl_live_render *r, bool *config_error)
 			hl_live_log("renderer: %s", strerror(-rc));
 		else
 			hl_pipeline_set_scene(r->pipe, pt->sc, pt->glare, pt->pose);
+		if (rc == 0)
+			hl_pipeline_set_osi(r->pipe, pt->osi);
 		if (rc == 0 && pt->suite && pt->sc && pt->glare)
 			hl_pipeline_set_frame_hook(r->pipe, hl_suite_live_frame, pt->suite);
 	}
@@ -273,6 +275,8 @@ static int setup_outputs(struct hl_live_render *r)
 		.verdicts = pt->verdicts,
 		.glare = pt->glare,
 		.pose = pt->pose,
+		.osi = pt->osi,
+		.osi_replay = pt->osi_replay,
 		.restbus = pt->restbus,
 		.loop = pt->loop,
 		.ecu = pt->ecu,
@@ -451,6 +455,7 @@ void hl_live_render_stop(struct hl_live_render *r)
 	hl_pipeline_stop(r->pipe);
 	hl_restbus_stop(r->parts.restbus);
 	hl_pose_input_stop(r->parts.pose);
+	hl_osi_input_stop(r->parts.osi);
 	if (r->stream)
 		hl_stream_stop(r->stream);
 }

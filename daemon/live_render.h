@@ -24,7 +24,9 @@
 #include "daemon/core/ring.h"
 #include "daemon/core/verdicts.h"
 #include "daemon/loop/loop_latency.h"
+#include "daemon/loop/osi_input.h"
 #include "daemon/loop/pose_input.h"
+#include "world/osi_replay.h"
 #include "daemon/loop/restbus.h"
 #include "daemon/pipeline.h"
 #include "lamp/lid.h"
@@ -45,6 +47,8 @@ struct hl_live_render_parts {
 	const struct hl_scenario *sc;
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose;
+	struct hl_osi_input *osi; /* scene.world osi:udp: */
+	const struct hl_osi_replay_report *osi_replay; /* scene.world osi:file: its counts */
 	struct hl_restbus *restbus; /* NULL: none */
 	struct hl_loop_latency *loop; /* NULL: none; published frames are handed to it */
 	struct hl_live_ecu *ecu; /* NULL: none (an ECU outside); its part of /status */

@@ -14,7 +14,8 @@
  * hd84_inputs.dbc), the camera. A bad database or camera is a configuration error (exit 2).
  */
 int hl_live_restbus_new(const struct hl_config *cfg, const struct hl_scenario *sc,
-			struct hl_pose_input *pose, struct hl_loop_latency *loop,
+			struct hl_pose_input *pose, struct hl_osi_input *osi,
+			struct hl_loop_latency *loop,
 			struct hl_restbus **ret, bool *ret_config_error)
 {
 	char dbc[HL_CONFIG_PATH + 32], msg[1024];
@@ -24,6 +25,7 @@ int hl_live_restbus_new(const struct hl_config *cfg, const struct hl_scenario *s
 		.dbc = dbc,
 		.sc = sc,
 		.pose = pose,
+		.osi = osi,
 		.cam = { .pos_m = { cfg->restbus_camera_pos_m[0], cfg->restbus_camera_pos_m[1],
 				    cfg->restbus_camera_pos_m[2] },
 			 .fov_h_deg = cfg->restbus_fov_deg[0],

@@ -16,6 +16,7 @@
 
 #include "base/clock.h"
 #include "daemon/core/glare_live.h"
+#include "daemon/loop/osi_input.h"
 #include "daemon/loop/pose_input.h"
 #include "base/sched.h"
 #include "render/compose.h"
@@ -57,6 +58,7 @@ struct hl_pipeline {
 	const struct hl_scenario *sc;
 	struct hl_glare_live *glare;
 	struct hl_pose_input *pose; /* NULL: no pose input */
+	struct hl_osi_input *osi; /* NULL: no live OSI input */
 	int64_t t_start_ns; /* CLOCK_MONOTONIC when the renderer was ready: a live bus's scenario clock */
 
 	/* live settings, changed by reload under the lock */
@@ -447,6 +449,14 @@ static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int new
 		p->world_source = HL_SCENE_POSE;
 		return;
 	}
+	if (p->osi) {
+		if (!hl_osi_input_latest(p->osi, &p->world, &p->world_pose_rx_ns)) {
+			p->world = (struct hl_world_state){ .n_actors = 0 }; /* before: none */
+			p->world.ego.s_m = NAN;
+		}
+		p->world_source = HL_SCENE_OSI;
+		return;
+	}
 	if (p->cfg.replay[0]) {
 		const struct hl_lamp_snapshot *ls = &s->lamps[newest];
 
@@ -754,6 +764,11 @@ void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
 	p->sc = sc;
 	p->glare = glare;
 	p->pose = pose;
+}
+
+void hl_pipeline_set_osi(struct hl_pipeline *p, struct hl_osi_input *osi)
+{
+	p->osi = osi;
 }
 
 int64_t hl_pipeline_scene_t0_ns(const struct hl_pipeline *p)

@@ -80,6 +80,7 @@ void hl_pipeline_free(struct hl_pipeline *p);
 
 struct hl_glare_live;
 struct hl_pose_input;
+struct hl_osi_input;
 
 /*
  * Before hl_pipeline_start: the records (daemon/core/verdict_records.h) the render thread feeds
@@ -97,6 +98,8 @@ struct hl_verdict_records *hl_pipeline_records(const struct hl_pipeline *p);
  */
 void hl_pipeline_set_scene(struct hl_pipeline *p, const struct hl_scenario *sc,
 			   struct hl_glare_live *glare, struct hl_pose_input *pose);
+/* Before start, after set_scene: the world from the live OSI input (scene.world osi:udp:). */
+void hl_pipeline_set_osi(struct hl_pipeline *p, struct hl_osi_input *osi);
 
 struct hl_lid_grid;
 struct hl_world_state;

@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <pthread.h>
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "base/clock.h"
@@ -232,6 +233,73 @@ static void pose_json(struct hl_pose_input *pi, FILE *f, double *ret_age_s)
 	fputc('}', f);
 }
 
+/*
+ * The OSI world's counters: ,"world":{...} (docs/osi.md, "Status"): live, the newest message's
+ * age (s) in *ret_age_s (or -1) and whether the world is none; a trace, its counts at load.
+ */
+static void world_json(struct hl_osi_input *oi, const struct hl_osi_replay_report *rep,
+		       FILE *f, double *ret_age_s)
+{
+	struct hl_osi_input_counts c;
+	const uint64_t *n = rep ? rep->counts : c.reasons;
+
+	memset(&c, 0, sizeof(c));
+	if (oi) {
+		hl_osi_input_counts(oi, &c);
+		*ret_age_s = c.have ? (double)(hl_clock_monotonic_ns() - c.t_last_ok_ns) / 1e9 :
+				      -1.0;
+		fprintf(f,
+			",\"world\":{\"source\":\"osi:udp\",\"port\":%u,\"datagrams\":%" PRIu64
+			",\"socket_drops\":%" PRIu64,
+			hl_osi_input_port(oi), c.datagrams, c.socket_drops);
+	} else {
+		fprintf(f, ",\"world\":{\"source\":\"osi:file\",\"messages_in_file\":%zu",
+			rep->messages);
+	}
+	fputs(",\"messages\":{", f);
+	for (int r = 0; r < HL_OSI_REASONS; r++)
+		fprintf(f, "%s\"%s\":%" PRIu64, r ? "," : "", hl_osi_reason_name(r), n[r]);
+	fputc('}', f);
+	if (oi && c.have)
+		fprintf(f, ",\"t_s\":%.9g,\"age_s\":%.3f,\"objects\":%d,\"state\":\"%s\"",
+			c.t_s, *ret_age_s, c.objects,
+			*ret_age_s > hl_osi_input_timeout_s(oi) ? "none" : "live");
+	else if (oi)
+		fputs(",\"state\":\"none\"", f);
+	fputc('}', f);
+}
+
+static void world_metrics(struct hl_osi_input *oi, const struct hl_osi_replay_report *rep,
+			  struct hl_prom *p)
+{
+	struct hl_osi_input_counts c;
+	const uint64_t *n = rep ? rep->counts : c.reasons;
+
+	memset(&c, 0, sizeof(c));
+	if (oi)
+		hl_osi_input_counts(oi, &c);
+	hl_prom_family(p, "hdlamp_osi_messages_total", HL_PROM_COUNTER,
+		       "ASAM OSI messages, datagrams and objects by what became of them.");
+	for (int r = 0; r < HL_OSI_REASONS; r++)
+		hl_prom_counter(p, "hdlamp_osi_messages_total",
+				(const char *const[]){ "reason", hl_osi_reason_name(r), NULL },
+				n[r]);
+	if (!oi)
+		return;
+	hl_prom_family(p, "hdlamp_osi_datagrams_total", HL_PROM_COUNTER,
+		       "UDP datagrams the live OSI input received.");
+	hl_prom_counter(p, "hdlamp_osi_datagrams_total", NULL, c.datagrams);
+	hl_prom_family(p, "hdlamp_osi_socket_drops_total", HL_PROM_COUNTER,
+		       "Datagrams the kernel dropped for a full receive buffer.");
+	hl_prom_counter(p, "hdlamp_osi_socket_drops_total", NULL, c.socket_drops);
+	if (c.have) {
+		hl_prom_family(p, "hdlamp_osi_age_seconds", HL_PROM_GAUGE,
+			       "Age of the newest good OSI message (s); none before the first.");
+		hl_prom_gauge(p, "hdlamp_osi_age_seconds", NULL,
+			      (double)(hl_clock_monotonic_ns() - c.t_last_ok_ns) / 1e9);
+	}
+}
+
 static void pose_metrics(struct hl_pose_input *pi, struct hl_prom *p)
 {
 	struct hl_pose_counts c;
@@ -360,6 +428,8 @@ int hl_status_json(struct hl_status *st, char *buf, size_t size)
 
 		if (s->pose)
 			pose_json(s->pose, f, &age_s);
+		if (s->osi || s->osi_replay)
+			world_json(s->osi, s->osi_replay, f, &age_s);
 		hl_glare_live_status_json(s->glare, fr, age_s, f);
 		hl_frame_pool_release(s->pool, fr);
 	}
@@ -468,6 +538,8 @@ int hl_status_metrics(struct hl_status *st, char *buf, size_t size)
 	}
 	if (s->pose)
 		pose_metrics(s->pose, &p);
+	if (s->osi || s->osi_replay)
+		world_metrics(s->osi, s->osi_replay, &p);
 	if (s->restbus)
 		hl_restbus_metrics(s->restbus, &p);
 	if (s->loop)

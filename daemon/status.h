@@ -25,7 +25,9 @@
 #include "daemon/out/gpio.h"
 #include "daemon/out/http.h"
 #include "daemon/pipeline.h"
+#include "daemon/loop/osi_input.h"
 #include "daemon/loop/pose_input.h"
+#include "world/osi_replay.h"
 #include "daemon/loop/loop_latency.h"
 #include "daemon/live_ecu.h"
 #include "daemon/loop/restbus.h"
@@ -49,6 +51,8 @@ struct hl_status_sources {
 	const struct hl_verdicts *verdicts; /* with pipe and pool: the newest frame's verdicts */
 	struct hl_glare_live *glare; /* with pool: the scenario's time and the newest frame's glare */
 	struct hl_pose_input *pose; /* the pose input's counters and the newest pose's age */
+	struct hl_osi_input *osi; /* the live OSI input's counters, the newest message's age */
+	const struct hl_osi_replay_report *osi_replay; /* an OSI trace's counts */
 	struct hl_restbus *restbus; /* "restbus" in the JSON, hdlamp_restbus_* in the metrics */
 	struct hl_loop_latency *loop; /* "loop" in the JSON, hdlamp_loop_* in the metrics */
 	struct hl_live_ecu *ecu; /* ecu.model: "ecu" in the JSON */

@@ -12,6 +12,7 @@
 #include "verdict/glare.h"
 #include "render/glare_plot.h"
 #include "tools/commands.h"
+#include "tools/world_arg.h"
 #include "tools/json_out.h"
 #include "tools/preset_arg.h"
 
@@ -21,7 +22,8 @@
 static void usage(FILE *f)
 {
 	fprintf(f,
-		"usage: hdlamp glare --scenario FILE|NAME --lid LEFT.lid.exr --lid RIGHT.lid.exr\n"
+		"usage: hdlamp glare (--scenario FILE|NAME | --world osi:file:TRACE.osi)\n"
+		"                    --lid LEFT.lid.exr --lid RIGHT.lid.exr\n"
 		"                    [--preset NAME|FILE] [--at T | --frames A:B:STEP] [--json]\n"
 		"                    [--regulation ID|SET.json] [--regulations DIR] [--plot OUT.png]\n"
 		"\n"
@@ -33,6 +35,10 @@ static void usage(FILE *f)
 		"Exit 0 when no road user is over its limit, 1 when one is, 2 on a usage error.\n"
 		"\n"
 		"  --scenario FILE    a scenario file, or the name of a shipped one\n"
+		"  --world osi:file:TRACE.osi  the scene of an ASAM OSI trace (docs/osi.md); a\n"
+		"                     --scenario beside it lends the ego's lamps and a road\n"
+		"  --osi-message M    the trace's messages: auto (its file name), ground-truth,\n"
+		"                     sensor-view\n"
 		"  --lid FILE         the left lamp, then the right lamp (sources or combined)\n"
 		"  --preset NAME      low (default), high, glarefree, bend_left, bend_right (the\n"
 		"                     built-in HD84 presets), or a preset .json file; not used for\n"
@@ -233,7 +239,9 @@ int hl_cmd_glare(int argc, char **argv)
 		OPT_JSON,
 		OPT_REG,
 		OPT_REGS,
-		OPT_PLOT
+		OPT_PLOT,
+		OPT_WORLD,
+		OPT_OSI_MESSAGE
 	};
 	static const struct option opts[] = {
 		{ "scenario", required_argument, NULL, OPT_SCN },
@@ -245,11 +253,13 @@ int hl_cmd_glare(int argc, char **argv)
 		{ "regulation", required_argument, NULL, OPT_REG },
 		{ "regulations", required_argument, NULL, OPT_REGS },
 		{ "plot", required_argument, NULL, OPT_PLOT },
+		{ "world", required_argument, NULL, OPT_WORLD },
+		{ "osi-message", required_argument, NULL, OPT_OSI_MESSAGE },
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
 	const char *scn = NULL, *lid_path[2] = { NULL, NULL }, *preset = "low", *set = DEFAULT_SET;
-	const char *plot = NULL;
+	const char *plot = NULL, *world = NULL, *osi_message = NULL;
 	char dir[4096] = "", *end;
 	bool as_json = false, have_at = false, have_frames = false;
 	double a = 0.0, b = 0.0, step = 1.0;
@@ -309,6 +319,12 @@ int hl_cmd_glare(int argc, char **argv)
 		case OPT_PLOT:
 			plot = optarg;
 			break;
+		case OPT_WORLD:
+			world = optarg;
+			break;
+		case OPT_OSI_MESSAGE:
+			osi_message = optarg;
+			break;
 		case 'h':
 			usage(stdout);
 			return HL_EXIT_OK;
@@ -317,10 +333,10 @@ int hl_cmd_glare(int argc, char **argv)
 			return HL_EXIT_USAGE;
 		}
 	}
-	if (optind != argc || !scn || n_lid != 2 || (have_at && have_frames)) {
+	if (optind != argc || (!scn && !world) || n_lid != 2 || (have_at && have_frames)) {
 		fprintf(stderr, "hdlamp glare: %s\n",
 			optind != argc ? "unexpected arguments" :
-			!scn	       ? "--scenario is required" :
+			!scn && !world ? "--scenario or --world is required" :
 			n_lid != 2     ? "give two lamps: --lid LEFT --lid RIGHT" :
 					 "--at or --frames, not both");
 		usage(stderr);
@@ -331,7 +347,9 @@ int hl_cmd_glare(int argc, char **argv)
 				"give --regulations DIR\n");
 		return HL_EXIT_FAIL;
 	}
-	if (load_scenario(scn, &sc) < 0 || load_set(set, dir, &reg) < 0 ||
+	if ((scn && load_scenario(scn, &sc) < 0) ||
+	    (world && hl_tool_world_load("hdlamp glare", world, osi_message, sc, &sc) < 0) ||
+	    load_set(set, dir, &reg) < 0 ||
 	    distributions(lid_path, preset, lids, dense) < 0)
 		goto out;
 	{

@@ -20,6 +20,7 @@
 #include "render/view.h"
 #include "world/world.h"
 #include "render/world_scene.h"
+#include "tools/world_arg.h"
 #include "tools/commands.h"
 #include "tools/preset_arg.h"
 #include "tools/render_args.h"
@@ -35,7 +36,8 @@
 static void usage(FILE *f)
 {
 	fprintf(f,
-		"usage: hdlamp render --scenario FILE (--at T | --frames A:B:STEP)\n"
+		"usage: hdlamp render (--scenario FILE | --world osi:file:TRACE.osi)\n"
+		"                     (--at T | --frames A:B:STEP)\n"
 		"                     (--lamps DIR | --lid LEFT.lid.exr [--lid RIGHT.lid.exr])\n"
 		"                     --out FILE.png|FILE.exr [options]\n"
 		"\n"
@@ -43,6 +45,9 @@ static void usage(FILE *f)
 		"to B, lit by the ego lamps; the road users' lamps are drawn into the display view.\n"
 		"\n"
 		"  --scenario FILE      a scenario file (docs/scenarios.md)\n"
+		"  --world osi:file:TRACE.osi  the scene of an ASAM OSI trace (docs/osi.md); a\n"
+		"                       --scenario beside it lends the ego's lamps, camera, a road\n"
+		"  --osi-message M      auto (the trace's file name) | ground-truth | sensor-view\n"
 		"  --at T               one still at time T (s)\n"
 		"  --frames A:B:STEP    a sequence; frame i (from 0) at A + i STEP goes to\n"
 		"                       BASE-NNNN.png (or .exr) for --out BASE.png\n"
@@ -62,6 +67,7 @@ static void usage(FILE *f)
 
 struct options {
 	const char *scenario, *lamps_dir, *lid[2], *preset, *out;
+	const char *world, *osi_message; /* --world osi:file:TRACE.osi (tools/world_arg.h) */
 	int n_lid;
 	double t0_s, t1_s, step_s;
 	bool have_at, have_frames, bird;
@@ -75,9 +81,20 @@ struct options {
 /* 0, or an exit code (a negative one: --help was printed). */
 static int parse(int argc, char **argv, struct options *o)
 {
-	enum { OPT_SCENARIO = 256, OPT_AT, OPT_FRAMES, OPT_EXPOSURE, OPT_ISO, OPT_BACKEND };
+	enum {
+		OPT_SCENARIO = 256,
+		OPT_AT,
+		OPT_FRAMES,
+		OPT_EXPOSURE,
+		OPT_ISO,
+		OPT_BACKEND,
+		OPT_WORLD,
+		OPT_OSI_MESSAGE
+	};
 	static const struct option opts[] = {
 		{ "scenario", required_argument, NULL, OPT_SCENARIO },
+		{ "world", required_argument, NULL, OPT_WORLD },
+		{ "osi-message", required_argument, NULL, OPT_OSI_MESSAGE },
 		{ "at", required_argument, NULL, OPT_AT },
 		{ "frames", required_argument, NULL, OPT_FRAMES },
 		{ "lamps", required_argument, NULL, 'L' },
@@ -109,6 +126,12 @@ static int parse(int argc, char **argv, struct options *o)
 		switch (c) {
 		case OPT_SCENARIO:
 			o->scenario = optarg;
+			break;
+		case OPT_WORLD:
+			o->world = optarg;
+			break;
+		case OPT_OSI_MESSAGE:
+			o->osi_message = optarg;
 			break;
 		case OPT_AT:
 			if (hl_render_parse_numbers(optarg, ',', &o->t0_s, 1) < 0)
@@ -183,14 +206,15 @@ static int parse(int argc, char **argv, struct options *o)
 			return HL_EXIT_USAGE;
 		}
 	}
-	if (optind != argc || !o->scenario || !o->out || (!o->lamps_dir && !o->n_lid) ||
+	if (optind != argc || (!o->scenario && !o->world) || !o->out || (!o->lamps_dir && !o->n_lid) ||
 	    (o->lamps_dir && o->n_lid)) {
 		usage(stderr);
 		return HL_EXIT_USAGE;
 	}
 	if (o->have_at == o->have_frames) {
 		fprintf(stderr,
-			"hdlamp render: --scenario needs one of --at T or --frames A:B:STEP\n");
+			"hdlamp render: --scenario or --world needs one of --at T or --frames "
+			"A:B:STEP\n");
 		return HL_EXIT_USAGE;
 	}
 	if (!hl_render_ends_with(o->out, ".png") && !hl_render_ends_with(o->out, ".exr"))
@@ -349,12 +373,16 @@ int hl_cmd_render_scenario(int argc, char **argv)
 	rc = parse(argc, argv, &o);
 	if (rc)
 		return rc < 0 ? HL_EXIT_OK : rc;
-	rc = hl_scenario_read(o.scenario, &sc, &jerr);
-	if (rc < 0) {
-		fprintf(stderr, "hdlamp render: %s\n",
-			hl_json_error_format(&jerr, msg, sizeof(msg)));
-		return HL_EXIT_FAIL;
+	if (o.scenario) {
+		rc = hl_scenario_read(o.scenario, &sc, &jerr);
+		if (rc < 0) {
+			fprintf(stderr, "hdlamp render: %s\n",
+				hl_json_error_format(&jerr, msg, sizeof(msg)));
+			return HL_EXIT_FAIL;
+		}
 	}
+	if (o.world && hl_tool_world_load("hdlamp render", o.world, o.osi_message, sc, &sc) < 0)
+		return HL_EXIT_FAIL;
 	rc = hl_egl_new(&egl, &eerr);
 	if (rc < 0) {
 		fprintf(stderr, "hdlamp render: no EGL/GLES 3.1 context: %s\n", eerr.msg);

@@ -74,6 +74,7 @@ static void usage(FILE *f)
 		"                       [--hold PRESET [--mode NAME]]\n"
 		"       hdlamp scenario validate FILE...\n"
 		"       hdlamp scenario builtin --list | NAME --out FILE\n"
+		"       hdlamp scenario osi SCENARIO.json --out FILE.osi [--rate HZ]\n"
 		"\n"
 		"validate checks scenario files (road, ego vehicle, road users over time:\n"
 		"docs/scenarios.md); builtin lists or writes the shipped ones. Without a verb:\n"
@@ -374,6 +375,8 @@ int hl_cmd_scenario(int argc, char **argv)
 		return hl_cmd_scenario_validate(argc - 1, argv + 1);
 	if (argc > 1 && !strcmp(argv[1], "builtin"))
 		return hl_cmd_scenario_builtin(argc - 1, argv + 1);
+	if (argc > 1 && !strcmp(argv[1], "osi"))
+		return hl_cmd_scenario_osi(argc - 1, argv + 1);
 	optind = 1;
 	while ((c = getopt_long(argc, argv, "d:o:e:i:n:s:D:H:M:h", opts, NULL)) != -1) {
 		switch (c) {

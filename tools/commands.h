@@ -26,6 +26,8 @@ int hl_cmd_lid_export(int argc, char **argv);
 /* hdlamp scenario validate / builtin (cmd_scenario_file.c); argv[0] is the verb. */
 int hl_cmd_scenario_validate(int argc, char **argv);
 int hl_cmd_scenario_builtin(int argc, char **argv);
+/* hdlamp scenario osi (cmd_scenario_osi.c): a scenario as an ASAM OSI trace. */
+int hl_cmd_scenario_osi(int argc, char **argv);
 /* hdlamp render --scenario (cmd_render_scenario.c): argv as hdlamp render's. */
 int hl_cmd_render_scenario(int argc, char **argv);
 /* hdlamp lid check (cmd_lid_check.c); argv[0] is the verb. */

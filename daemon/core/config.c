@@ -143,6 +143,19 @@ static const struct key keys[] = {
 	  NULL },
 	{ "scene", "glare_history", INT, F(glare_history), 1, 100000,
 	  "frames of per-road-user glare GET /glare.json keeps (3000 = 60 s at 50 Hz)", NULL },
+	{ "scene", "world", STRING, F(world), 0, 0,
+	  "the world from ASAM OSI (docs/osi.md): osi:file:TRACE.osi or osi:udp:HOST:PORT; "
+	  "scene.scenario then lends the ego's lamps and camera (and a road); empty = the "
+	  "scenario's own",
+	  NULL },
+	{ "scene", "world_message", ENUM, F(world_message), 0, 0,
+	  "the OSI message: auto (a trace: its file name; udp: ground-truth, as esmini) | ground-truth | "
+	  "sensor-view",
+	  "auto|ground-truth|sensor-view" },
+	{ "scene", "world_timeout_s", DOUBLE, F(world_timeout_s), 0.01, 3600,
+	  "osi:udp: no good message this long and the world is none (no road users)", NULL },
+	{ "scene", "world_wait_s", DOUBLE, F(world_wait_s), 0.1, 86400,
+	  "osi:udp: how long hdlampd waits at start for the simulator's first message", NULL },
 	{ "pose", "listen", UDP, F(pose_listen), 0, 0,
 	  "udp:HOST:PORT for poses from a driving simulator (needs scene.scenario); empty = off",
 	  NULL },
@@ -232,6 +245,9 @@ void hl_config_defaults(struct hl_config *c)
 	c->road_width_at_m[1] = 50.0;
 	strcpy(c->glare_set, "unece-r149-01-adb-glare");
 	c->glare_history = 3000;
+	snprintf(c->world_message, sizeof(c->world_message), "auto");
+	c->world_timeout_s = 1.0;
+	c->world_wait_s = 60.0;
 	c->restbus_camera_pos_m[0] = -1.8; /* behind the windscreen, at the mirror */
 	c->restbus_camera_pos_m[1] = 0.0;
 	c->restbus_camera_pos_m[2] = 1.3;
@@ -512,7 +528,7 @@ int hl_config_set_arg(struct hl_config *cfg, const char *assignment, const char 
 int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 {
 	const char *why = NULL;
-
+	const bool scene = cfg->scenario[0] || cfg->world[0];
 	const bool vbus_iface = !cfg->interface[0] || strcmp(cfg->interface, HL_CONFIG_VBUS) == 0;
 	const bool vbus_restbus = !cfg->restbus_interface[0] ||
 				  strcmp(cfg->restbus_interface, HL_CONFIG_VBUS) == 0;
@@ -523,8 +539,8 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 	else if (cfg->ecu_model[0] && (!vbus_iface || !vbus_restbus))
 		why = "ecu.model runs the loop on the virtual bus " HL_CONFIG_VBUS
 		      ": can.interface and restbus.interface must be " HL_CONFIG_VBUS " or empty";
-	else if (cfg->ecu_model[0] && !cfg->scenario[0])
-		why = "ecu.model needs scene.scenario: the restbus sends the ECU its state";
+	else if (cfg->ecu_model[0] && !scene)
+		why = "ecu.model needs scene.scenario or scene.world: the restbus sends the ECU its state";
 	else if (!cfg->ecu_model[0] && cfg->ecu_faults[0])
 		why = "ecu.faults needs ecu.model";
 	else if (!cfg->ecu_model[0] && !cfg->interface[0] == !cfg->replay[0])
@@ -537,14 +553,19 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "can.replay_loop needs a file: standard input cannot be replayed again";
 	else if (cfg->pose_listen[0] && !cfg->scenario[0])
 		why = "pose.listen needs scene.scenario: the poses move its road users";
-	else if (cfg->restbus_interface[0] && !cfg->scenario[0])
-		why = "restbus.interface needs scene.scenario: the restbus sends its state";
-	else if (cfg->loop_exit_at_end && !cfg->scenario[0])
-		why = "loop.exit_at_end needs scene.scenario: the run ends with it";
-	else if (cfg->loop_report[0] && !cfg->scenario[0])
-		why = "loop.report needs scene.scenario: the report judges its run";
-	else if (cfg->loop_junit[0] && !cfg->scenario[0])
-		why = "loop.junit needs scene.scenario: the JUnit judges its run";
+	else if (cfg->pose_listen[0] && cfg->world[0])
+		why = "pose.listen and scene.world both move the scene: give one";
+	else if (cfg->world[0] && strncmp(cfg->world, "osi:file:", 9) &&
+		 strncmp(cfg->world, "osi:udp:", 8))
+		why = "scene.world: expected osi:file:TRACE.osi or osi:udp:HOST:PORT";
+	else if (cfg->restbus_interface[0] && !scene)
+		why = "restbus.interface needs scene.scenario or scene.world: the restbus sends its state";
+	else if (cfg->loop_exit_at_end && !scene)
+		why = "loop.exit_at_end needs scene.scenario or scene.world: the run ends with it";
+	else if (cfg->loop_report[0] && !scene)
+		why = "loop.report needs scene.scenario or scene.world: the report judges its run";
+	else if (cfg->loop_junit[0] && !scene)
+		why = "loop.junit needs scene.scenario or scene.world: the JUnit judges its run";
 	if (why && err)
 		snprintf(err->msg, sizeof(err->msg), "%s", why);
 	return why ? -EINVAL : 0;

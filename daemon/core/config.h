@@ -19,7 +19,7 @@
 #define HL_CONFIG_NAME 64
 #define HL_CONFIG_ROAD_LEVELS 2 /* render/road_kpi.h: HL_ROAD_KPI_LEVELS */
 #define HL_CONFIG_ROAD_WIDTHS 2 /* render/road_kpi.h: HL_ROAD_KPI_WIDTHS */
-#define HL_CONFIG_MAX_KEYS 64 /* keys in config.c's table, at most */
+#define HL_CONFIG_MAX_KEYS 80 /* keys in config.c's table, at most */
 #define HL_CONFIG_MAX_WARNINGS 8 /* listed one by one; the rest counted */
 
 /* Where a key's value came from, for messages about it after loading. */
@@ -95,6 +95,10 @@ struct hl_config {
 	char scenario[HL_CONFIG_PATH]; /* scenario file (world/scenario.h), or "" */
 	char glare_set[HL_CONFIG_SET_ID]; /* the regulation set of the live glare limits */
 	int glare_history; /* frames /glare.json keeps */
+	char world[HL_CONFIG_PATH]; /* osi:file:PATH | osi:udp:HOST:PORT (docs/osi.md), or "" */
+	char world_message[HL_CONFIG_NAME]; /* auto | ground-truth | sensor-view */
+	double world_timeout_s; /* a live world this old is none */
+	double world_wait_s; /* for the first live message at start */
 	/* [pose] */
 	char pose_listen[HL_CONFIG_NAME]; /* udp:HOST:PORT of the pose input, or "" */
 	/* [restbus] */

@@ -36,6 +36,7 @@ enum hl_scene_source {
 	HL_SCENE_CLOCK = 1, /* CLOCK_MONOTONIC since the daemon started (a live bus) */
 	HL_SCENE_LOG = 2, /* the replayed log's time of the newest cycle in its pass */
 	HL_SCENE_POSE = 3, /* the newest message of the pose input */
+	HL_SCENE_OSI = 4, /* the newest message of the live ASAM OSI input */
 };
 
 /* Frame flags: per lamp l, bit 2l = stale, bit 2l + 1 = fail-safe active. */

@@ -93,6 +93,8 @@ const char *hl_scene_source_name(enum hl_scene_source s)
 		return "log";
 	case HL_SCENE_POSE:
 		return "pose";
+	case HL_SCENE_OSI:
+		return "osi";
 	default:
 		return "none";
 	}

@@ -176,6 +176,11 @@ static void world_at(struct hl_restbus *rb, int64_t d_ns, struct hl_world_state 
 
 	if (rb->cfg.pose && hl_pose_input_latest(rb->cfg.pose, w, &rx_ns))
 		return;
+	if (rb->cfg.osi) {
+		if (!hl_osi_input_latest(rb->cfg.osi, w, &rx_ns))
+			*w = (struct hl_world_state){ .n_actors = 0 }; /* nobody yet */
+		return;
+	}
 	hl_world_at(rb->cfg.sc, hl_scenario_clock_at(rb->cfg.sc, rb->t0_ns, d_ns), w);
 }
 

@@ -35,6 +35,7 @@
 #include "can/inputs.h"
 #include "can/socket.h"
 #include "daemon/loop/loop_latency.h"
+#include "daemon/loop/osi_input.h"
 #include "daemon/loop/pose_input.h"
 #include "daemon/core/prom.h"
 #include "daemon/loop/restbus_state.h"
@@ -48,6 +49,7 @@ struct hl_restbus_config {
 	const char *dbc; /* the input database's path */
 	const struct hl_scenario *sc; /* must outlive the restbus */
 	struct hl_pose_input *pose; /* NULL: the scenario's paths only */
+	struct hl_osi_input *osi; /* NULL: no live OSI world; else its newest state */
 	struct hl_restbus_camera cam;
 	enum hl_light_switch light_switch;
 	bool adb_enable;

@@ -26,11 +26,11 @@ static void live_restbus_none_without_interface_or_scenario(void **state)
 
 	(void)state;
 	hl_config_defaults(&cfg);
-	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, &rb, &config_error), 0);
+	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, NULL, &rb, &config_error), 0);
 	assert_null(rb);
 	strcpy(cfg.restbus_interface, "vcan9");
 	rb = (struct hl_restbus *)&cfg;
-	assert_int_equal(hl_live_restbus_new(&cfg, NULL, NULL, NULL, &rb, &config_error), 0);
+	assert_int_equal(hl_live_restbus_new(&cfg, NULL, NULL, NULL, NULL, &rb, &config_error), 0);
 	assert_null(rb);
 	assert_false(config_error);
 	hl_scenario_free(sc);
@@ -47,7 +47,7 @@ static void live_restbus_missing_dbc_is_a_config_error(void **state)
 	hl_config_defaults(&cfg);
 	strcpy(cfg.restbus_interface, "vcan9");
 	strcpy(cfg.restbus_dbc, "/nonexistent-dir/inputs.dbc");
-	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, &rb, &config_error), -ENOENT);
+	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, NULL, &rb, &config_error), -ENOENT);
 	assert_true(config_error);
 	assert_null(rb);
 	hl_scenario_free(sc);
@@ -65,7 +65,7 @@ static void live_restbus_shipped_dbc_makes_it(void **state)
 	strcpy(cfg.restbus_interface, "vcan9");
 	snprintf(cfg.restbus_dbc, sizeof(cfg.restbus_dbc), "%s/dbc/hd84_inputs.dbc",
 		 getenv("HL_SOURCE_DIR"));
-	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, &rb, &config_error), 0);
+	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, NULL, &rb, &config_error), 0);
 	assert_non_null(rb);
 	assert_false(config_error);
 	hl_restbus_free(rb);
