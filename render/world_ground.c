@@ -99,7 +99,7 @@ static enum hl_surface classify(const struct hl_road *road, const struct hl_road
 
 /* The road's parts that can hold the ground points of a run of pixels (road coordinates). */
 struct parts {
-	int n, i[HL_SCN_MAX_SEGMENTS + 2];
+	int n, i[HL_SCN_MAX_SEGMENTS + 2]; /* 1 kB on the stack per run: fine */
 };
 
 static void run_rays(const struct hl_ground_view *v, const struct hl_ground_pose *xf, double sy,
@@ -183,6 +183,28 @@ static void lat_range(const struct hl_road_proj_part *pp, const struct hl_ground
 	*hi = pp->turn > 0 ? pp->r0_m - dmin : dmax - pp->r0_m;
 }
 
+/*
+ * Whether the run's first n ground points all lie where part pp's lateral offset is its line's
+ * (circle's): none beyond an end at a kink's vertex, where it is the distance to the vertex.
+ * The offset along a straight part is affine in the run, so its ends decide.
+ */
+static bool run_off_vertices(const struct hl_road_proj_part *pp, const struct hl_ground_run *r,
+			     int n)
+{
+	if (!pp->out0 && !pp->out1)
+		return true;
+	if (pp->arc)
+		return false;
+	for (int e = 0; e < 2; e++) {
+		const double x = r->wx[e ? n - 1 : 0], y = r->wy[e ? n - 1 : 0];
+		const double u = (x - pp->x0_m) * pp->c + (y - pp->y0_m) * pp->s;
+
+		if ((pp->out0 && u < pp->lo_m) || (pp->out1 && u > pp->hi_m))
+			return false;
+	}
+	return true;
+}
+
 /* Slack for rounding (m) when a run's offsets are judged to lie between two bounds. */
 #define UNIFORM_SLACK_M 1e-6
 
@@ -223,7 +245,7 @@ void hl_ground_run(const struct hl_ground *g, const struct hl_ground_view *v,
 	if (ends) {
 		parts.n = hl_road_proj_candidates(&g->proj, r->wx[0], r->wy[0], r->wx[n - 1],
 						  r->wy[n - 1], parts.i);
-		if (parts.n == 1) {
+		if (parts.n == 1 && run_off_vertices(&g->proj.part[parts.i[0]], r, n)) {
 			const int k = parts.i[0];
 			const struct hl_road_proj_part *pp = &g->proj.part[k];
 			double lo, hi;

@@ -8,8 +8,18 @@
  * precision: arcs by their chord, a piecewise-linear speed integrated to a piecewise-quadratic
  * distance.
  *
- * Beyond its ends the road runs on straight: before s = 0 back along the start heading, after
- * its length along the end heading.
+ * Beyond its ends the road runs on straight: before s = 0 back along the first segment's start
+ * heading, after its length along the end heading.
+ *
+ * Kinks: a segment may start with a heading change (kink_rad; a polyline's legs,
+ * hl_road_set_polyline()). The centre line stays continuous; its heading jumps there (at the
+ * vertex's s, hl_road_centre() gives the outgoing leg's). Ground points in the wedge on the
+ * outside of a kink, beyond the end of one leg and before the start of the next, are nearest to
+ * the vertex itself: their s is the vertex's, their d the distance to the vertex, negative
+ * (right) at a left kink and positive at a right one, so |d| is the distance to the centre line
+ * everywhere and lines of constant |d| (edges, markings) go round the vertex on a circle. There
+ * hl_road_point() is not the inverse of the projection. On the inside of a kink the offset
+ * lines of the two legs cross; a post there stands at the crossing (hl_road_post()).
  *
  * None of the per-frame calls allocates; a road laid out by hl_road_layout() (the parser does
  * it) is needed. Thread-safety: pure functions of read-only data; any thread.
@@ -20,7 +30,7 @@
 #include <math.h>
 #include <stdbool.h>
 
-#define HL_SCN_MAX_SEGMENTS 64
+#define HL_SCN_MAX_SEGMENTS 256
 #define HL_SCN_MAX_POINTS 64 /* speed profile points, waypoints */
 
 enum hl_seg_kind { HL_SEG_STRAIGHT, HL_SEG_ARC };
@@ -30,6 +40,7 @@ struct hl_road_segment {
 	double length_m;
 	double radius_m; /* arc */
 	int turn; /* arc: +1 left (counter-clockwise seen from above), -1 right */
+	double kink_rad; /* heading change at its start, + left (0: continues the one before) */
 	/* derived: where it starts */
 	double s0_m, x0_m, y0_m, heading0_rad;
 	int line; /* where it is in the file */
@@ -97,6 +108,18 @@ struct hl_body_pose {
 /* Derives each segment's start (s, position, heading) and the road's length. */
 void hl_road_layout(struct hl_road *road);
 /*
+ * Makes the road's centre line the polyline through xy[0 .. n - 1] (world, metres): s = 0 at
+ * xy[0], heading0 that of the first leg, one straight segment per leg with the heading change
+ * at each vertex as its kink. The points are first simplified (Douglas-Peucker: every point
+ * dropped lies within tol_m of the leg that replaces it; the first and last point are kept)
+ * and legs of zero length dropped, so that it fits HL_SCN_MAX_SEGMENTS. Only the geometry
+ * (start, segments, length) is set, and laid out; lanes, markings and posts are left as they
+ * are. 0; -EINVAL for a non-finite coordinate, fewer than 2 distinct points or tol_m < 0;
+ * -E2BIG when more than HL_SCN_MAX_SEGMENTS legs remain. The road is untouched on failure.
+ * Allocates nothing.
+ */
+int hl_road_set_polyline(struct hl_road *road, const double (*xy)[2], int n, double tol_m);
+/*
  * Derives a speed profile's distances, and a waypoint path's headings: each waypoint's is that
  * of the leg ending there (a standing leg keeps the one before); before the first move,
  * heading_rad, or with NAN the first move's heading (0 for a path that never moves).
@@ -111,8 +134,10 @@ void hl_road_point(const struct hl_road *road, double s_m, double d_m, double re
 /*
  * The inverse of hl_road_point(): the road coordinates (s, d) of the ground point (x, y) (world,
  * metres), exactly: the foot of the perpendicular on the nearest part of the centre line (a
- * segment, or the straight run-on before s = 0 or after the road's end). An arc's points are
- * measured by the angle about its centre (arcs up to a full turn). Allocates nothing.
+ * segment, or the straight run-on before s = 0 or after the road's end); in the wedge outside a
+ * kink the vertex (see above). An arc's points are measured by the angle about its centre
+ * (arcs up to a full turn). Allocates nothing and needs no table (each part is made on the
+ * fly).
  */
 void hl_road_project(const struct hl_road *road, double x_m, double y_m, double *ret_s_m,
 		     double *ret_d_m);
@@ -120,11 +145,23 @@ void hl_road_project(const struct hl_road *road, double x_m, double y_m, double 
 /*
  * The same in two steps over a table made once per road, for many points (a ray cast frame):
  * the lateral offset d and the part of the road nearest (no atan2), then s only where it is
- * needed. The parts are the run-on before s = 0, the one after the end, and the segments.
+ * needed. The parts are the run-on before s = 0, the one after the end, and the segments; the
+ * segments in blocks of HL_ROAD_PROJ_BLOCK with a circle holding them, so that the search for
+ * the nearest skips far blocks whole. The table is large (tens of kB): make it once, keep it
+ * off the stack.
  */
+#define HL_ROAD_PROJ_BLOCK 16 /* segments per block */
+#define HL_ROAD_PROJ_MAX_BLOCKS \
+	((HL_SCN_MAX_SEGMENTS + HL_ROAD_PROJ_BLOCK - 1) / HL_ROAD_PROJ_BLOCK)
+
 struct hl_road_proj_part {
 	bool arc;
 	int turn; /* arc: +1 left, -1 right */
+	/*
+	 * At an end (0: start, 1: end) that is a kink's vertex: the sign of d beyond it (the
+	 * outside of the turn), d there being the distance to the vertex; 0 elsewhere.
+	 */
+	int out0, out1;
 	double s0_m, lo_m, hi_m; /* s = s0 + u, u in [lo, hi] along the part */
 	double x0_m, y0_m, c, s; /* start and cos, sin of its heading there */
 	double x1_m, y1_m; /* end (a segment) */
@@ -132,9 +169,16 @@ struct hl_road_proj_part {
 	double cx_m, cy_m, r0_m, mx, my, cos_half; /* arc: centre, radius, middle's direction */
 };
 
+struct hl_road_proj_block {
+	int first, n; /* parts first .. first + n - 1 */
+	double cx_m, cy_m, r_m; /* every point of them lies within r of (cx, cy) */
+};
+
 struct hl_road_proj {
 	int n;
 	struct hl_road_proj_part part[HL_SCN_MAX_SEGMENTS + 2];
+	int n_blocks;
+	struct hl_road_proj_block block[HL_ROAD_PROJ_MAX_BLOCKS];
 };
 
 void hl_road_proj_init(const struct hl_road *road, struct hl_road_proj *ret);
@@ -150,7 +194,9 @@ int hl_road_proj_lateral(const struct hl_road_proj *p, double x_m, double y_m, i
  * into ret (room for p->n); returns how many (at least one). A distance is 1-Lipschitz: for a
  * point q of the segment of length L, |D_i(q) - D_i(a)| <= |qa|, so D_i(q) >= (D_i(a) +
  * D_i(b) - L) / 2 and D_i(q) <= (D_i(a) + D_i(b) + L) / 2; a part whose lower bound exceeds
- * the least upper bound is never the nearest (nor tied with it).
+ * the least upper bound is never the nearest (nor tied with it). A block of segments is judged
+ * first by its circle (the same bound with D >= |q - c| - r) and skipped whole when it is
+ * beyond; the blocks nearest by that bound are judged first.
  */
 int hl_road_proj_candidates(const struct hl_road_proj *p, double ax, double ay, double bx,
 			    double by, int *ret);
@@ -162,9 +208,11 @@ static inline double hl_road_part_dist2(const struct hl_road_proj_part *pp, doub
 		const double dx = x - pp->x0_m, dy = y - pp->y0_m;
 		const double u = dx * pp->c + dy * pp->s, d = -dx * pp->s + dy * pp->c;
 		const double uc = u < pp->lo_m ? pp->lo_m : u > pp->hi_m ? pp->hi_m : u;
+		const double dist2 = (u - uc) * (u - uc) + d * d;
+		const int out = u < pp->lo_m ? pp->out0 : u > pp->hi_m ? pp->out1 : 0;
 
-		*ret_d = d;
-		return (u - uc) * (u - uc) + d * d;
+		*ret_d = out ? out * sqrt(dist2) : d;
+		return dist2;
 	}
 	const double vx = x - pp->cx_m, vy = y - pp->cy_m, r = sqrt(vx * vx + vy * vy);
 
@@ -176,7 +224,10 @@ static inline double hl_road_part_dist2(const struct hl_road_proj_part *pp, doub
 	{
 		const double a = (x - pp->x0_m) * (x - pp->x0_m) + (y - pp->y0_m) * (y - pp->y0_m);
 		const double b = (x - pp->x1_m) * (x - pp->x1_m) + (y - pp->y1_m) * (y - pp->y1_m);
+		const int out = a < b ? pp->out0 : pp->out1;
 
+		if (out)
+			*ret_d = out * sqrt(a < b ? a : b);
 		return a < b ? a : b;
 	}
 }
@@ -224,7 +275,11 @@ double hl_road_lane_offset(const struct hl_road *road, int lane);
 double hl_road_half_width(const struct hl_road *road);
 /* Posts per edge (at s = spacing, 2 spacing, ... up to the road's length); 0 without posts. */
 int hl_road_post_count(const struct hl_road *road);
-/* The foot of post k (0-based) on side +1 (left edge) or -1 (right edge). */
+/*
+ * The foot of post k (0-based) on side +1 (left edge) or -1 (right edge): hl_road_point(), but
+ * on the inside of a kink, nearer the vertex than where the two legs' offset lines cross, at
+ * that crossing (not on the other leg's road).
+ */
 void hl_road_post(const struct hl_road *road, int k, int side, double ret[3]);
 
 /* Distance covered from time 0 to t (negative before 0) under the profile; speed at t. */

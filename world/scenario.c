@@ -31,11 +31,75 @@ static const struct hl_json_range r_vehicle[3] = { { -30.0, 20.0, false, "m" },
 						   { -5.0, 5.0, false, "m" },
 						   { 0.0, 5.0, false, "m" } };
 
+#define MAX_POLYLINE_POINTS 100000
+#define POLYLINE_TOL_M 0.01 /* default simplification tolerance of a polyline */
+
+/* The segment at path p, {"kind": "polyline", "points_m": [[x, y], ...], "tolerance_m"}. */
+static int parse_polyline(const struct hl_json_ctx *c, const char *p, const struct json_t *o,
+			  struct hl_road *road)
+{
+	static const char *const keys[] = { "kind", "points_m", "tolerance_m", NULL };
+	static const struct hl_json_range r_tol = { 0.0, 1.0, false, "m" };
+	const struct json_t *pts = json_object_get(o, "points_m");
+	char sub[HL_JSON_PATH_MAX], q[HL_JSON_PATH_MAX];
+	double tol = POLYLINE_TOL_M, (*xy)[2];
+	size_t n;
+	int rc;
+
+	if (hl_json_check_object(c, p, o, keys) < 0 ||
+	    hl_json_get_number(c, p, o, "tolerance_m", false, &r_tol, &tol) < 0)
+		return -EBADMSG;
+	hl_json_join(sub, sizeof(sub), p, "points_m");
+	if (!pts)
+		return hl_json_fail(c, sub, "missing: expected [[x, y], ...] in m, 2 to %d points",
+				    MAX_POLYLINE_POINTS);
+	n = json_is_array(pts) ? json_array_size(pts) : 0;
+	if (!json_is_array(pts) || n < 2 || n > MAX_POLYLINE_POINTS)
+		return hl_json_fail(c, sub, "expected [[x, y], ...] in m, 2 to %d points, found %s",
+				    MAX_POLYLINE_POINTS,
+				    json_is_array(pts) ? "too few or too many" :
+							 hl_json_type_name(pts));
+	xy = malloc(sizeof(*xy) * n);
+	if (!xy)
+		return -ENOMEM;
+	for (size_t i = 0; i < n; i++) {
+		const struct json_t *pt = json_array_get(pts, i);
+
+		hl_json_index(q, sizeof(q), sub, i);
+		if (!json_is_array(pt) || json_array_size(pt) != 2) {
+			free(xy);
+			return hl_json_fail(c, q, "expected a point [x, y] in m, found %s",
+					    json_is_array(pt) ? "another number of values" :
+								hl_json_type_name(pt));
+		}
+		for (size_t k = 0; k < 2; k++) {
+			char r[HL_JSON_PATH_MAX];
+
+			hl_json_index(r, sizeof(r), q, k);
+			if (hl_json_number(c, r, json_array_get(pt, k), &r_s, &xy[i][k]) < 0) {
+				free(xy);
+				return -EBADMSG;
+			}
+		}
+	}
+	rc = hl_road_set_polyline(road, (const double(*)[2])xy, (int)n, tol);
+	free(xy);
+	if (rc == -EINVAL)
+		return hl_json_fail(c, sub, "fewer than 2 distinct points: the road has no length");
+	if (rc == -E2BIG)
+		return hl_json_fail(c, sub,
+				    "more than %d legs remain after simplifying within %g m: "
+				    "raise tolerance_m or give fewer points",
+				    HL_SCN_MAX_SEGMENTS, tol);
+	return rc;
+}
+
+/* 0, or 1 when the road is a polyline. */
 static int parse_segments(const struct hl_json_ctx *c, const struct json_t *j, struct hl_road *road)
 {
 	static const char *const keys[] = { "kind", "length_m",	 "radius_m",
 					    "turn", "start_s_m", NULL };
-	static const char *const kinds[] = { "straight", "arc", NULL };
+	static const char *const kinds[] = { "straight", "arc", "polyline", NULL };
 	static const char *const turns[] = { "left", "right", NULL };
 	static const struct hl_json_range r_radius = { 10.0, MAX_S_M, false, "m" };
 	const char *path = "road.segments";
@@ -59,6 +123,17 @@ static int parse_segments(const struct hl_json_ctx *c, const struct json_t *j, s
 		double start = NAN;
 
 		hl_json_index(p, sizeof(p), path, i);
+		if (json_is_object(o) && hl_json_get_enum(c, p, o, "kind", true, kinds, &kind) < 0)
+			return -EBADMSG;
+		if (kind == 2) {
+			if (json_array_size(j) != 1)
+				return hl_json_fail(
+					c, hl_json_join(sub, sizeof(sub), p, "kind"),
+					"a polyline is the road's only segment: expected "
+					"no other segments, found %zu",
+					json_array_size(j) - 1);
+			return parse_polyline(c, p, o, road) < 0 ? -EBADMSG : 1;
+		}
 		if (hl_json_check_object(c, p, o, keys) < 0 ||
 		    hl_json_get_enum(c, p, o, "kind", true, kinds, &kind) < 0 ||
 		    hl_json_get_number(c, p, o, "length_m", true, &r_length, &seg->length_m) < 0 ||
@@ -115,7 +190,7 @@ static int parse_road(const struct hl_json_ctx *c, const struct json_t *j, struc
 	static const struct hl_json_range r_height = { 0.0, 5.0, true, "m" };
 	const struct json_t *o;
 	double heading_deg = 0.0;
-	int edge = HL_MARK_SOLID, sep = HL_MARK_DASHED;
+	int edge = HL_MARK_SOLID, sep = HL_MARK_DASHED, polyline;
 
 	*road = (struct hl_road){
 		.lanes = 2,
@@ -140,8 +215,13 @@ static int parse_road(const struct hl_json_ctx *c, const struct json_t *j, struc
 			c, "road.segments",
 			"missing: the road has no segments: expected an array of 1 to %d",
 			HL_SCN_MAX_SEGMENTS);
-	if (parse_segments(c, json_object_get(j, "segments"), road) < 0)
+	polyline = parse_segments(c, json_object_get(j, "segments"), road);
+	if (polyline < 0)
 		return -EBADMSG;
+	if (polyline && json_object_get(j, "start"))
+		return hl_json_fail(
+			c, "road.start",
+			"a polyline road starts at its first point: expected no 'start'");
 	o = json_object_get(j, "lanes");
 	if (o && (hl_json_check_object(c, "road.lanes", o, lane_keys) < 0 ||
 		  hl_json_get_int(c, "road.lanes", o, "count", false, 1, 8, &road->lanes) < 0 ||
@@ -174,7 +254,8 @@ static int parse_road(const struct hl_json_ctx *c, const struct json_t *j, struc
 		  hl_json_get_number(c, "road.posts", o, "height_m", false, &r_height,
 				     &road->post_height_m) < 0))
 		return -EBADMSG;
-	hl_road_layout(road);
+	if (!polyline) /* a polyline's was laid out by hl_road_set_polyline() */
+		hl_road_layout(road);
 	return 0;
 }
 

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A scenario (docs/scenarios.md): a road of straight and arc segments with lanes and posts, the
- * ego vehicle's path, speed, lamps and camera, other road users with paths, bodies, lamps and
- * eye points, and a duration. Read from JSON with jansson and checked strictly: an unknown key,
+ * A scenario (docs/scenarios.md): a road of straight and arc segments (or one polyline) with
+ * lanes and posts, the ego vehicle's path, speed, lamps and camera, other road users with paths,
+ * bodies, lamps and eye points, and a duration. Read from JSON with jansson and checked strictly: an unknown key,
  * a wrong type, a value out of range, waypoints not strictly increasing in time or a road that
  * does not connect is refused with the file, line, column and key path.
  *

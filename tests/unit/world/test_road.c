@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include <cmocka.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -398,6 +399,205 @@ static void per_frame_calls_allocate_nothing(void **state)
 	hl_scenario_free(sc);
 }
 
+/*
+ * A polyline with one left kink of 60°: (0, 0) -> (100, 0) -> 100 m on at 60°. Centre, points
+ * and projections on both legs by hand; in the wedge outside the kink, the vertex; posts.
+ */
+static void road_polyline_one_kink(void **state)
+{
+	(void)state;
+	const double c60 = cos(60 * DEG), s60 = sin(60 * DEG), c30 = cos(30 * DEG);
+	const double xy[3][2] = { { 0, 0 }, { 100, 0 }, { 100 + 100 * c60, 100 * s60 } };
+	struct hl_road *road = calloc(1, sizeof(*road));
+	struct hl_pose2 c;
+	double p[3], s, d;
+
+	road->lanes = 2;
+	road->lane_width_m = 3.5;
+	road->post_spacing_m = 10.0;
+	road->post_offset_m = 0.75;
+	assert_int_equal(hl_road_set_polyline(road, xy, 3, 0.01), 0);
+	assert_int_equal(road->n_segments, 2);
+	near("length", 0, road->length_m, 200.0, 1e-9);
+	near("kink", 100, road->seg[1].kink_rad, 60 * DEG, 1e-12);
+	/* centre: before, on and after the legs; at the vertex the outgoing heading */
+	hl_road_centre(road, -10, &c);
+	near("x", -10, c.x_m, -10, 1e-9);
+	near_heading("heading", -10, c.heading_rad, 0);
+	hl_road_centre(road, 50, &c);
+	near("x", 50, c.x_m, 50, 1e-9);
+	near("y", 50, c.y_m, 0, 1e-9);
+	hl_road_centre(road, 100, &c);
+	near("x", 100, c.x_m, 100, 1e-9);
+	near_heading("heading", 100, c.heading_rad, 60 * DEG);
+	hl_road_centre(road, 150, &c);
+	near("x", 150, c.x_m, 100 + 50 * c60, 1e-9);
+	near("y", 150, c.y_m, 50 * s60, 1e-9);
+	hl_road_centre(road, 230, &c);
+	near("x", 230, c.x_m, 100 + 130 * c60, 1e-9);
+	near("y", 230, c.y_m, 130 * s60, 1e-9);
+	/* points and their projections: leg 1, leg 2, the inside near the vertex */
+	hl_road_point(road, 150, -2, p);
+	near_point("point", 150, p, 100 + 50 * c60 + 2 * s60, 50 * s60 - 2 * c60, 0);
+	hl_road_project(road, p[0], p[1], &s, &d);
+	near("s", 150, s, 150, 1e-9);
+	near("d", 150, d, -2, 1e-9);
+	hl_road_project(road, 50, 2, &s, &d);
+	near("s", 50, s, 50, 1e-9);
+	near("d", 50, d, 2, 1e-9);
+	hl_road_project(road, 95, 3, &s, &d); /* nearer leg 1 (3 m) than leg 2 (5.83 m) */
+	near("s", 95, s, 95, 1e-9);
+	near("d", 95, d, 3, 1e-9);
+	/* the wedge outside (right of) the vertex, between the legs' right normals */
+	for (double a = -89.0; a <= -31.0; a += 29.0) {
+		hl_road_project(road, 100 + 5 * cos(a * DEG), 5 * sin(a * DEG), &s, &d);
+		near("wedge s", a, s, 100, 1e-9);
+		near("wedge d", a, d, -5, 1e-9);
+	}
+	/* posts at s = 100, 4.25 m out: inside where the offset lines cross, outside on leg 2 */
+	hl_road_post(road, 9, +1, p);
+	near_point("post inside", 100, p, 100 - 4.25 / c30 * sin(30 * DEG), 4.25, 0);
+	hl_road_post(road, 9, -1, p);
+	near_point("post outside", 100, p, 100 + 4.25 * s60, -4.25 * c60, 0);
+	hl_road_post(road, 8, +1, p); /* s = 90: 10 m before, beyond the crossing (2.45 m) */
+	near_point("post inside", 90, p, 90, 4.25, 0);
+	free(road);
+}
+
+/*
+ * A 60 m-radius left arc over 90° given as points 1 m apart: points (s, d) of the true arc
+ * project with d within the simplification tolerance, and s too on the centre line; off it s
+ * is also off by up to |d| times half the largest kink (the legs' normals turn at the
+ * vertices, the arc's turn smoothly). Every given point lies within tol of the simplified
+ * line; the ends are kept.
+ */
+static void road_polyline_of_60m_arc(void **state)
+{
+	(void)state;
+	const double R = 60.0, tol = 0.05, len = M_PI / 2 * R;
+	const int n = (int)floor(len) + 2;
+	double(*xy)[2] = calloc((size_t)n, sizeof(*xy));
+	struct hl_road *road = calloc(1, sizeof(*road));
+	struct hl_pose2 end;
+	double s, d, kink = 0.0;
+
+	for (int i = 0; i < n; i++) {
+		const double phi = (i < n - 1 ? i : len) / R;
+
+		xy[i][0] = R * sin(phi);
+		xy[i][1] = R - R * cos(phi);
+	}
+	assert_int_equal(hl_road_set_polyline(road, (const double(*)[2])xy, n, tol), 0);
+	assert_true(road->n_segments < n / 3);
+	near("start x", 0, road->x0_m, 0, 0);
+	hl_road_centre(road, road->length_m, &end);
+	near("end x", len, end.x_m, xy[n - 1][0], 1e-9);
+	near("end y", len, end.y_m, xy[n - 1][1], 1e-9);
+	for (int i = 1; i < road->n_segments; i++)
+		kink = fmax(kink, fabs(road->seg[i].kink_rad));
+	near("largest kink", 0, kink, 0.0, 0.1);
+	for (int i = 0; i < n; i++) {
+		hl_road_project(road, xy[i][0], xy[i][1], &s, &d);
+		near("given point d", i, d, 0, tol);
+	}
+	for (double st = 0.0; st <= len; st += 2.5)
+		for (double dt = -5.0; dt <= 5.0; dt += 2.5) {
+			const double phi = st / R;
+
+			hl_road_project(road, R * sin(phi) - dt * sin(phi),
+					R - R * cos(phi) + dt * cos(phi), &s, &d);
+			near("arc s", st, s, st, tol + fabs(dt) * kink / 2);
+			near("arc d", st, d, dt, tol);
+		}
+	free(road);
+	free(xy);
+}
+
+/* Simplification within tol, repeated points dropped; bad polylines refused, road untouched. */
+static void road_polyline_simplify_and_refuse(void **state)
+{
+	(void)state;
+	const double rep[5][2] = { { 0, 0 }, { 0, 0 }, { 10, 0 }, { 10, 0 }, { 20, 5 } };
+	const double same[3][2] = { { 1, 2 }, { 1, 2 }, { 1, 2 } };
+	const double bad[3][2] = { { 0, 0 }, { NAN, 1 }, { 5, 5 } };
+	const double loop[3][2] = { { 0, 0 }, { 0.005, 0 }, { 0, 0 } };
+	const double bump[3][2] = { { 0, 0 }, { 50, 0.3 }, { 100, 0 } };
+	double zig[400][2];
+	struct hl_road *road = calloc(1, sizeof(*road));
+
+	assert_int_equal(hl_road_set_polyline(road, rep, 5, 0.0), 0);
+	assert_int_equal(road->n_segments, 2);
+	near("leg 1", 0, road->seg[0].length_m, 10, 1e-12);
+	near("leg 2", 1, road->seg[1].length_m, hypot(10, 5), 1e-12);
+	/* a bump of 0.3 m: kept under 0.29 m, dropped under 0.31 m */
+	assert_int_equal(hl_road_set_polyline(road, bump, 3, 0.29), 0);
+	assert_int_equal(road->n_segments, 2);
+	assert_int_equal(hl_road_set_polyline(road, bump, 3, 0.31), 0);
+	assert_int_equal(road->n_segments, 1);
+	near("chord", 0, road->length_m, 100, 1e-12);
+	for (int i = 0; i < 400; i++) {
+		zig[i][0] = i;
+		zig[i][1] = i % 2;
+	}
+	assert_int_equal(hl_road_set_polyline(road, zig, 400, 0.01), -E2BIG);
+	assert_int_equal(road->n_segments, 1); /* untouched */
+	assert_int_equal(hl_road_set_polyline(road, zig, 400, 1.0), 0);
+	assert_int_equal(road->n_segments, 1);
+	near("chord", 0, road->length_m, hypot(399, 1), 1e-12);
+	assert_int_equal(hl_road_set_polyline(road, rep, 1, 0.01), -EINVAL);
+	assert_int_equal(hl_road_set_polyline(road, same, 3, 0.01), -EINVAL);
+	assert_int_equal(hl_road_set_polyline(road, bad, 3, 0.01), -EINVAL);
+	assert_int_equal(hl_road_set_polyline(road, loop, 3, 0.01), -EINVAL);
+	assert_int_equal(hl_road_set_polyline(road, bump, 3, -1.0), -EINVAL);
+	near("untouched", 0, road->length_m, hypot(399, 1), 1e-12);
+	free(road);
+}
+
+/* A polyline road in a scenario file; and the rules for it, each refused where it is. */
+static void road_polyline_in_a_scenario(void **state)
+{
+	(void)state;
+	static const struct {
+		const char *seg, *key, *msg;
+		int line;
+	} bad[] = {
+		{ "\"segments\": [{\"kind\": \"polyline\", \"points_m\": [[0, 0], [0, 0]]}]",
+		  "road.segments[0].points_m", "fewer than 2 distinct points", 1 },
+		{ "\"segments\": [{\"kind\": \"polyline\", \"points_m\": [[0, 0], [1, 0, 2]]}]",
+		  "road.segments[0].points_m[1]", "expected a point [x, y]", 1 },
+		{ "\"segments\": [{\"kind\": \"straight\", \"length_m\": 5},\n"
+		  "{\"kind\": \"polyline\", \"points_m\": [[0, 0], [1, 0]]}]",
+		  "road.segments[1].kind", "the road's only segment", 2 },
+		{ "\"start\": {\"x_m\": 1},\n"
+		  "\"segments\": [{\"kind\": \"polyline\", \"points_m\": [[0, 0], [1, 0]]}]",
+		  "road.start", "starts at its first point", 1 },
+		{ "\"segments\": [{\"kind\": \"polyline\", \"length_m\": 5, \"points_m\": [[0, 0]]}]",
+		  "road.segments[0].length_m", "unknown key", 1 },
+	};
+	char text[1024];
+	struct hl_scenario *sc =
+		load("{\"version\": 1, \"duration_s\": 1, \"road\": {\"segments\": "
+		     "[{\"kind\": \"polyline\", \"points_m\": [[10, 5], [10, 5], "
+		     "[10, 105], [0, 205]]}]}}");
+
+	assert_int_equal(sc->road.n_segments, 2);
+	near("x0", 0, sc->road.x0_m, 10, 0);
+	near_heading("heading0", 0, sc->road.heading0_rad, 90 * DEG);
+	near("length", 0, sc->road.length_m, 100 + hypot(10, 100), 1e-9);
+	hl_scenario_free(sc);
+	for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+		struct hl_json_error err;
+
+		snprintf(text, sizeof(text), "{\"version\": 1, \"duration_s\": 1, \"road\": {%s}}",
+			 bad[i].seg);
+		assert_int_equal(hl_scenario_parse(text, "poly.json", &sc, &err), -EBADMSG);
+		assert_string_equal(err.key, bad[i].key);
+		assert_int_equal(err.line, bad[i].line);
+		if (!strstr(err.msg, bad[i].msg))
+			fail_msg("%s: '%s' lacks '%s'", err.key, err.msg, bad[i].msg);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -407,6 +607,10 @@ int main(void)
 		cmocka_unit_test(waypoint_path),
 		cmocka_unit_test(ego_lamps_and_camera),
 		cmocka_unit_test(per_frame_calls_allocate_nothing),
+		cmocka_unit_test(road_polyline_one_kink),
+		cmocka_unit_test(road_polyline_of_60m_arc),
+		cmocka_unit_test(road_polyline_simplify_and_refuse),
+		cmocka_unit_test(road_polyline_in_a_scenario),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
