@@ -52,6 +52,9 @@ static void usage(FILE *f)
 		"  --scenario FILE    = scene.scenario: a scenario (docs/scenarios.md); its clock runs\n"
 		"                     on the replayed log's time (or the monotonic clock live), and\n"
 		"                     every frame reports the glare at its road users' eyes\n"
+		"  --world SPEC       = scene.world: the world from ASAM OSI (docs/osi.md): a trace\n"
+		"                     osi:file:TRACE.osi or a simulator's osi:udp:HOST:PORT; with\n"
+		"                     --scenario, it lends the ego's lamps and camera (and a road)\n"
 		"  --pose udp:H:P     = pose.listen: poses from a driving simulator, one JSON object\n"
 		"                     per datagram (needs --scenario)\n"
 		"  --restbus IFACE    = restbus.interface: send the ECU's inputs (vehicle state,\n"
@@ -120,6 +123,7 @@ static int parse_options(int argc, char **argv, struct options *o)
 		{ "ring-slots", required_argument, NULL, 's' },
 		{ "scenario", required_argument, NULL, 'A' },
 		{ "pose", required_argument, NULL, 'O' },
+		{ "world", required_argument, NULL, 'W' },
 		{ "restbus", required_argument, NULL, 'B' },
 		{ "ecu", required_argument, NULL, 'U' },
 		{ "ecu-fault", required_argument, NULL, 'F' },
@@ -182,6 +186,9 @@ static int parse_options(int argc, char **argv, struct options *o)
 			break;
 		case 'O':
 			rc = add_override(o, "pose.listen", optarg, "--pose", optarg);
+			break;
+		case 'W':
+			rc = add_override(o, "scene.world", optarg, "--world", optarg);
 			break;
 		case 'B':
 			rc = add_override(o, "restbus.interface", optarg, "--restbus", optarg);
@@ -276,6 +283,7 @@ static int parse_options(int argc, char **argv, struct options *o)
 			o->cfg.scenario[0]    ? "--scenario: the suite makes its own" :
 			o->cfg.replay[0]      ? "--replay: a suite runs in real time" :
 			o->cfg.pose_listen[0] ? "--pose: the suite's scenarios move" :
+			o->cfg.world[0]	      ? "--world: the suite's scenarios are the world" :
 			o->no_render	      ? "--no-render: the photometers need frames" :
 			o->cfg.loop_report[0] ? "--report: each run's goes to DIR/runs" :
 			o->cfg.loop_junit[0]  ? "--junit: the suite writes DIR/junit.xml" :

@@ -88,7 +88,8 @@ static int boundaries(const struct hl_road *road, struct hl_osi_frame *f)
 		for (int k = 0; k <= steps; k++) {
 			const double s = fmin(k * POINT_STEP_M, road->length_m);
 
-			hl_road_point(road, s, -half + j * road->lane_width_m, f->point[f->n_points]);
+			hl_road_point(road, s, -half + j * road->lane_width_m,
+				      f->point[f->n_points]);
 			f->point_width_m[f->n_points++] = edge ? road->edge_line_width_m :
 								 road->separator_line_width_m;
 		}

@@ -42,8 +42,8 @@ int hl_tool_world_load(const char *prog, const char *world, const char *message,
 		fprintf(stderr, "%s: --world %s\n", prog, err);
 		goto out;
 	}
-	rc = hl_osi_replay_load(spec.path, message && strcmp(message, "auto") ? &kind : NULL,
-				base, ret, rep, err, sizeof(err));
+	rc = hl_osi_replay_load(spec.path, message && strcmp(message, "auto") ? &kind : NULL, base,
+				ret, rep, err, sizeof(err));
 	if (rc < 0) {
 		fprintf(stderr, "%s: --world: %s\n", prog, err);
 		goto out;
@@ -52,8 +52,9 @@ int hl_tool_world_load(const char *prog, const char *world, const char *message,
 		rep->messages, hl_osi_kind_name(rep->kind), rep->taken, (*ret)->duration_s);
 	for (int r = 1; r < HL_OSI_REASONS; r++)
 		if (rep->counts[r])
-			fprintf(stderr, "%s: %s: %" PRIu64 " %s; the first, message %zu: %s\n", prog,
-				spec.path, rep->counts[r], hl_osi_reason_name(r), rep->first[r],
+			fprintf(stderr, "%s: %s: %" PRIu64 " %s; the first, message %zu: %s\n",
+				prog, spec.path, rep->counts[r], hl_osi_reason_name(r),
+				rep->first[r],
 				rep->why[r][0] ? rep->why[r] : "(an object left out)");
 out:
 	free(rep);

@@ -24,8 +24,7 @@ static int error(int rc, char *err, size_t size, const char *fmt, ...)
 	return rc;
 }
 
-static void note(struct hl_osi_replay_report *rep, enum hl_osi_reason r, size_t i,
-		 const char *why)
+static void note(struct hl_osi_replay_report *rep, enum hl_osi_reason r, size_t i, const char *why)
 {
 	if (!rep->counts[r]++) {
 		rep->first[r] = i;

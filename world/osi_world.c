@@ -49,8 +49,7 @@ const char *hl_osi_reason_name(enum hl_osi_reason r)
 	return (unsigned)r < HL_OSI_REASONS ? reason_names[r] : "?";
 }
 
-static enum hl_osi_reason fail(enum hl_osi_reason r, char *why, size_t size, const char *fmt,
-			       ...)
+static enum hl_osi_reason fail(enum hl_osi_reason r, char *why, size_t size, const char *fmt, ...)
 {
 	va_list ap;
 

@@ -41,6 +41,7 @@ enum kind {
 	SETID, /* one set id (a file name in the regulations directory) */
 	UDP, /* udp:HOST:PORT as ADDRESS, or empty (off) */
 	TRIPLE, /* three numbers "a,b,c" into a double[3] (min, max bound each) */
+	WORLD, /* osi:file:PATH or osi:udp:HOST:PORT (docs/osi.md), or empty (off) */
 };
 
 /*
@@ -143,7 +144,7 @@ static const struct key keys[] = {
 	  NULL },
 	{ "scene", "glare_history", INT, F(glare_history), 1, 100000,
 	  "frames of per-road-user glare GET /glare.json keeps (3000 = 60 s at 50 Hz)", NULL },
-	{ "scene", "world", STRING, F(world), 0, 0,
+	{ "scene", "world", WORLD, F(world), 0, 0,
 	  "the world from ASAM OSI (docs/osi.md): osi:file:TRACE.osi or osi:udp:HOST:PORT; "
 	  "scene.scenario then lends the ego's lamps and camera (and a road); empty = the "
 	  "scenario's own",
@@ -298,6 +299,16 @@ static int set_value(struct hl_config *cfg, const struct key *k, const char *val
 		if (hl_cfg_copy_string(at, HL_CONFIG_NAME, value) < 0)
 			return bad(err, origin, line, k, "'%s': too long (at most %d bytes)", value,
 				   HL_CONFIG_NAME - 1);
+		return 0;
+	case WORLD:
+		if (value[0] && !(strncmp(value, "osi:file:", 9) == 0 && value[9]) &&
+		    !(strncmp(value, "osi:udp:", 8) == 0 &&
+		      hl_addr_parse(value + 8, &(struct sockaddr_storage){ 0 }, NULL) == 0))
+			return bad(err, origin, line, k,
+				   "'%s': expected osi:file:TRACE.osi or osi:udp:HOST:PORT", value);
+		if (hl_cfg_copy_string(at, HL_CONFIG_PATH, value) < 0)
+			return bad(err, origin, line, k, "too long (at most %d bytes)",
+				   HL_CONFIG_PATH - 1);
 		return 0;
 	case PATH:
 		if (k->max > 0 && strlen(value) > k->max)
@@ -555,9 +566,6 @@ int hl_config_check(const struct hl_config *cfg, struct hl_config_error *err)
 		why = "pose.listen needs scene.scenario: the poses move its road users";
 	else if (cfg->pose_listen[0] && cfg->world[0])
 		why = "pose.listen and scene.world both move the scene: give one";
-	else if (cfg->world[0] && strncmp(cfg->world, "osi:file:", 9) &&
-		 strncmp(cfg->world, "osi:udp:", 8))
-		why = "scene.world: expected osi:file:TRACE.osi or osi:udp:HOST:PORT";
 	else if (cfg->restbus_interface[0] && !scene)
 		why = "restbus.interface needs scene.scenario or scene.world: the restbus sends its state";
 	else if (cfg->loop_exit_at_end && !scene)
@@ -708,6 +716,7 @@ static void print_value(const struct hl_config *cfg, const struct key *k, FILE *
 	switch (k->kind) {
 	case STRING:
 	case PATH:
+	case WORLD:
 	case ENUM:
 	case ADDRESS:
 	case IFACE:

@@ -176,9 +176,16 @@ void hl_glare_live_status_json(struct hl_glare_live *gl, const struct hl_frame *
 
 		fprintf(out, "%s{\"id\":", i ? "," : "");
 		hl_json_write_str(out, sc->actor[i].id);
+		if (!r->present) { /* not in the world (a recording's road user that left) */
+			fprintf(out, ",\"kind\":\"%s\",\"role\":\"%s\",\"present\":false}",
+				hl_actor_kind_name(sc->actor[i].kind),
+				hl_actor_role_name(sc->actor[i].role));
+			continue;
+		}
 		fprintf(out,
 			",\"kind\":\"%s\",\"role\":\"%s\",\"distance_m\":%.9g,\"eye_lux\":%.9g,"
-			"\"cd\":{\"left\":%.9g,\"right\":%.9g,\"pair_half\":%.9g},\"limit_cd\":",
+			"\"cd\":{\"left\":%.9g,\"right\":%.9g,\"pair_half\":%.9g},\"present\":true,"
+			"\"limit_cd\":",
 			hl_actor_kind_name(sc->actor[i].kind),
 			hl_actor_role_name(sc->actor[i].role), r->distance_m, r->illuminance_lx,
 			r->intensity_cd[0], r->intensity_cd[1], r->pair_half_cd);
@@ -257,7 +264,10 @@ static void json_floats(FILE *f, const char *name, const float *v, int n)
 {
 	fprintf(f, ",\"%s\":[", name);
 	for (int i = 0; i < n; i++)
-		fprintf(f, "%s%.7g", i ? "," : "", (double)v[i]);
+		if (isfinite(v[i]))
+			fprintf(f, "%s%.7g", i ? "," : "", (double)v[i]);
+		else
+			fprintf(f, "%snull", i ? "," : ""); /* not in the world then */
 	fputc(']', f);
 }
 

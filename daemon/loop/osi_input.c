@@ -63,8 +63,8 @@ static void count(struct hl_osi_input *oi, enum hl_osi_reason r, uint64_t n, con
 		oi->unlogged[r] += n;
 		return;
 	}
-	fprintf(oi->log, "hdlampd: scene.world 'osi:%s': %s: %s", oi->listen,
-		hl_osi_reason_name(r), why);
+	fprintf(oi->log, "hdlampd: scene.world 'osi:%s': %s: %s", oi->listen, hl_osi_reason_name(r),
+		why);
 	if (oi->unlogged[r])
 		fprintf(oi->log, " (and %llu more in the second before)",
 			(unsigned long long)oi->unlogged[r]);
@@ -154,10 +154,9 @@ static void receive(struct hl_osi_input *oi)
 {
 	char ctl[CMSG_SPACE(sizeof(uint32_t))];
 	struct iovec iov = { oi->dgram, DGRAM_MAX };
-	struct msghdr mh = { .msg_iov = &iov,
-			     .msg_iovlen = 1,
-			     .msg_control = ctl,
-			     .msg_controllen = sizeof(ctl) };
+	struct msghdr mh = {
+		.msg_iov = &iov, .msg_iovlen = 1, .msg_control = ctl, .msg_controllen = sizeof(ctl)
+	};
 	const uint8_t *msg;
 	size_t msg_len;
 	int64_t now;
@@ -294,8 +293,8 @@ int hl_osi_input_first(struct hl_osi_input *oi, double wait_s, char *err, size_t
 				 "scene.world 'osi:%s': no usable OSI message in %g s on port %u "
 				 "(a host vehicle, a timestamp and, without scene.scenario, lane "
 				 "boundaries)%s%s",
-				 oi->listen, wait_s, oi->port, oi->first_why[0] ? "; the last: " : "",
-				 oi->first_why);
+				 oi->listen, wait_s, oi->port,
+				 oi->first_why[0] ? "; the last: " : "", oi->first_why);
 			return -ETIMEDOUT;
 		}
 		if (poll(&pfd, 1, left_ms > 1000 ? 1000 : (int)left_ms) > 0)

@@ -57,6 +57,7 @@ class Daemon:
             line = self.p.stderr.readline()
             assert line, f"hdlampd exited early: {self.log}"
             self.log.append(line)
+            self._line(line)
             m = re.search(r"frame stream on .*\(port (\d+)\)", line)
             if m:
                 self.stream_port = int(m.group(1))
@@ -64,6 +65,9 @@ class Daemon:
             if m:
                 self.http_port = int(m.group(1))
         threading.Thread(target=lambda: self.log.extend(self.p.stderr), daemon=True).start()
+
+    def _line(self, line):
+        """Each line of the start-up (a subclass acts on one)."""
 
     def get(self, path, method="GET"):
         req = urllib.request.Request(f"http://127.0.0.1:{self.http_port}{path}", method=method)

@@ -520,7 +520,8 @@ static void config_restbus_keys(void **state)
 	assert_int_equal(hl_config_set_arg(&c, "restbus.interface=can1", "cl", &err), 0);
 	assert_int_equal(hl_config_check(&c, &err), -EINVAL);
 	assert_string_equal(err.msg,
-			    "restbus.interface needs scene.scenario: the restbus sends its state");
+			    "restbus.interface needs scene.scenario or scene.world: the restbus "
+			    "sends its state");
 	assert_int_equal(hl_config_set_arg(&c, "scene.scenario=s.json", "cl", &err), 0);
 	assert_int_equal(hl_config_check(&c, &err), 0);
 }
