@@ -154,7 +154,8 @@ static int setup(struct hl_live_scene *s, const struct hl_config *cfg, int n_lam
 	}
 	hl_live_log(
 		"scene: '%s' (%s): %d road users, %.1f s, its clock on %s; glare limits from '%s'",
-		cfg->scenario, s->sc->title, s->sc->n_actors, s->sc->duration_s,
+		cfg->world[0] ? cfg->world : cfg->scenario, s->sc->title, s->sc->n_actors,
+		s->sc->duration_s,
 		cfg->replay[0]	  ? "the log's time" :
 		cfg->interface[0] ? "CLOCK_MONOTONIC" :
 				    "the virtual time of software in the loop",

@@ -3,6 +3,7 @@
 #include "world/track.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 
 struct hl_world_track {
@@ -72,8 +73,33 @@ size_t hl_world_track_index(const struct hl_world_track *t, double t_s)
 	return lo;
 }
 
+/* a's pose toward b's by f in [0, 1): position and speed linear, heading the shorter way */
+static void lerp(const struct hl_body_pose *a, const struct hl_body_pose *b, double f,
+		 struct hl_body_pose *ret)
+{
+	for (int k = 0; k < 3; k++)
+		ret->pos_m[k] = a->pos_m[k] + f * (b->pos_m[k] - a->pos_m[k]);
+	ret->heading_rad =
+		remainder(a->heading_rad + f * remainder(b->heading_rad - a->heading_rad, 2 * M_PI),
+			  2 * M_PI);
+	ret->speed_mps = a->speed_mps + f * (b->speed_mps - a->speed_mps);
+	ret->s_m = a->s_m + f * (b->s_m - a->s_m);
+}
+
 void hl_world_track_at(const struct hl_world_track *t, double t_s, struct hl_world_state *ret)
 {
-	*ret = t->st[hl_world_track_index(t, t_s)];
+	const size_t i = hl_world_track_index(t, t_s);
+	const struct hl_world_state *a = &t->st[i];
+
+	*ret = *a;
 	ret->t_s = t_s;
+	if (i + 1 < t->n && t_s > a->t_s) {
+		const struct hl_world_state *b = &t->st[i + 1];
+		const double f = (t_s - a->t_s) / (b->t_s - a->t_s);
+
+		lerp(&a->ego, &b->ego, f, &ret->ego);
+		for (int k = 0; k < a->n_actors && k < b->n_actors; k++)
+			if (hl_world_present(a, k) && hl_world_present(b, k))
+				lerp(&a->actor[k], &b->actor[k], f, &ret->actor[k]);
+	}
 }

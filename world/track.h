@@ -3,8 +3,10 @@
  * A recorded world (docs/osi.md, "Traces"): the world states of a recording at their own times,
  * e.g. every message of an ASAM OSI trace. A scenario that carries one (hl_scenario.track)
  * takes its ego and road-user poses from it instead of its paths: hl_world_at() and the
- * hl_world_*_at() functions hold the newest state at or before t (before the first: the first),
- * so every consumer of a scenario (renderer, glare, verdicts, restbus, the CLI) replays a
+ * hl_world_*_at() functions give the state at t, each message at its own time: between two the
+ * poses interpolated linearly (the heading the shorter way; a road user only if it is in both),
+ * presence and lamps the earlier one's; before the first the first, after the last the last. So
+ * every consumer of a scenario (renderer, glare, verdicts, restbus, the CLI) replays a
  * recording unchanged.
  *
  * Thread-safety: built by one thread (hl_world_track_push), read-only afterwards; lookups are
@@ -31,7 +33,7 @@ size_t hl_world_track_count(const struct hl_world_track *t);
 const struct hl_world_state *hl_world_track_state(const struct hl_world_track *t, size_t i);
 /* The index of the newest state at or before t_s (0 before the first); the track not empty. */
 size_t hl_world_track_index(const struct hl_world_track *t, double t_s);
-/* That state, its t_s set to t_s. */
+/* The state at t_s (interpolated between two, as above), its t_s set to t_s. */
 void hl_world_track_at(const struct hl_world_track *t, double t_s, struct hl_world_state *ret);
 
 #endif

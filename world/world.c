@@ -41,7 +41,10 @@ void hl_world_at(const struct hl_scenario *sc, double t_s, struct hl_world_state
 void hl_world_ego_pose_at(const struct hl_scenario *sc, double t_s, struct hl_body_pose *ret)
 {
 	if (sc->track) {
-		*ret = hl_world_track_state(sc->track, hl_world_track_index(sc->track, t_s))->ego;
+		struct hl_world_state w;
+
+		hl_world_track_at(sc->track, t_s, &w);
+		*ret = w.ego;
 		return;
 	}
 	hl_path_pose(&sc->road, &sc->ego.path, t_s, ret);
@@ -82,8 +85,10 @@ void hl_world_actor_pose_at(const struct hl_scenario *sc, int i, double t_s,
 			    struct hl_body_pose *ret)
 {
 	if (sc->track) {
-		*ret = hl_world_track_state(sc->track, hl_world_track_index(sc->track, t_s))
-			       ->actor[i];
+		struct hl_world_state w;
+
+		hl_world_track_at(sc->track, t_s, &w);
+		*ret = w.actor[i];
 		return;
 	}
 	hl_path_pose(&sc->road, &sc->actor[i].path, t_s, ret);

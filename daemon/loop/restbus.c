@@ -40,6 +40,9 @@ struct hl_restbus {
 	bool started;
 	atomic_int stop;
 	struct task veh, cam;
+	/* a live OSI world: the newest two distinct states the vehicle cycle saw */
+	struct hl_world_state live_prev, live_cur;
+	bool have_live;
 	/* the thread's own: when each message was last sent and in which deadline */
 	int64_t last_sent_ns[HL_RESTBUS_MAX_MESSAGES];
 	int64_t last_deadline_idx[HL_RESTBUS_MAX_MESSAGES];
@@ -243,7 +246,17 @@ static void serve_vehicle(struct hl_restbus *rb, int64_t d_ns, int64_t idx)
 	struct hl_inputs_frame fr;
 
 	world_at(rb, d_ns, &w);
-	hl_restbus_vehicle(rb->cfg.sc, &w, rb->cfg.light_switch, rb->cfg.adb_enable, &vs);
+	if (rb->cfg.osi) { /* a live world has no path: its states' own motion */
+		if (!rb->have_live || w.t_s > rb->live_cur.t_s) {
+			rb->live_prev = rb->have_live ? rb->live_cur : w;
+			rb->live_cur = w;
+			rb->have_live = true;
+		}
+		hl_restbus_vehicle_live(&w, &rb->live_prev, rb->cfg.light_switch,
+					rb->cfg.adb_enable, &vs);
+	} else {
+		hl_restbus_vehicle(rb->cfg.sc, &w, rb->cfg.light_switch, rb->cfg.adb_enable, &vs);
+	}
 	if (hl_inputs_encode_vehicle(rb->map, &vs, rb->veh.counter, &fr) < 0) {
 		count_unsent(rb, 0, 1, &rb->c.encode_errors);
 	} else if (hl_can_socket_fd(rb->sock) < 0) {

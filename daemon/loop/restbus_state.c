@@ -39,6 +39,24 @@ void hl_restbus_vehicle(const struct hl_scenario *sc, const struct hl_world_stat
 	ret->adb_enable = adb;
 }
 
+void hl_restbus_vehicle_live(const struct hl_world_state *w, const struct hl_world_state *prev,
+			     enum hl_light_switch sw, bool adb, struct hl_vehicle_state *ret)
+{
+	const double v = isfinite(w->ego.speed_mps) ? w->ego.speed_mps : 0.0;
+	double yaw = 0.0;
+
+	if (prev && prev->t_s < w->t_s)
+		yaw = remainder(w->ego.heading_rad - prev->ego.heading_rad, 2 * M_PI) /
+		      (w->t_s - prev->t_s);
+	ret->speed_mps = v;
+	ret->yaw_rate_rad_s = yaw;
+	ret->steering_rad = v > STANDING_MPS ? HL_RESTBUS_STEERING_RATIO *
+						       atan(HL_RESTBUS_WHEELBASE_M * yaw / v) :
+					       0.0;
+	ret->light_switch = sw;
+	ret->adb_enable = adb;
+}
+
 /* The camera's place and axes in the world. */
 struct cam_frame {
 	double pos[3], fwd[3], left[3];

@@ -56,6 +56,13 @@ struct hl_restbus_unseen {
  */
 void hl_restbus_vehicle(const struct hl_scenario *sc, const struct hl_world_state *w,
 			enum hl_light_switch sw, bool adb, struct hl_vehicle_state *ret);
+/*
+ * The same for a live world that has no path (an OSI simulator's): the speed of w's ego, the
+ * yaw rate as the heading's difference from prev (an earlier state, t_s < w's; NULL or not
+ * earlier: 0), the steering angle from yaw rate / speed (standing: 0).
+ */
+void hl_restbus_vehicle_live(const struct hl_world_state *w, const struct hl_world_state *prev,
+			     enum hl_light_switch sw, bool adb, struct hl_vehicle_state *ret);
 
 /* One road user's object as the camera sees it, unclipped: false when a corner is at or behind
  * the camera's plane. */

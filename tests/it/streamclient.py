@@ -12,7 +12,7 @@ FIELDS = ("magic", "version", "header_size", "seq", "width", "height", "stride",
           "edge_range_1_m", "edge_range_2_m", "width_1_m", "width_2_m", "glare_failed",
           "eye_lux_max", "n_actors", "scene_source", "scene_t_s")
 VERSION = 3
-SCENE_SOURCES = {0: "none", 1: "clock", 2: "log", 3: "pose"}
+SCENE_SOURCES = {0: "none", 1: "clock", 2: "log", 3: "pose", 4: "osi"}
 assert HEADER.size == 192
 
 

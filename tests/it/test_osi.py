@@ -203,7 +203,9 @@ def test_bad_traces_are_counted_by_reason_and_the_good_messages_replay(hdlamp, l
     eye_x = lambda r: r["eye_m"][0]  # noqa: E731
     assert math.isclose(eye_x(by_t[0.0]), 80.0 - 2.25 + 1.8)
     assert math.isclose(eye_x(by_t[0.1]), 78.0 - 2.25 + 1.8)
-    assert math.isclose(eye_x(by_t[5.0]), eye_x(by_t[0.1]))  # held until the jump
+    # between two taken messages (0.1 s and, after the jump, 5.1 s) the pose is interpolated
+    assert math.isclose(eye_x(by_t[2.6]), (eye_x(by_t[0.1]) + eye_x(by_t[5.1])) / 2)
+    assert math.isclose(eye_x(by_t[5.1]), 80.0 - 2.25 + 1.8)
     # not a trace: a length over 64 MiB
     junk = tmp_path / "junk_gt_.osi"
     junk.write_bytes(b"\xff\xff\xff\x7f" + b"x" * 100)
@@ -447,3 +449,44 @@ def test_bad_datagrams_are_counted_by_reason_and_a_silent_source_is_no_world(
                 (reason, text)
     assert "no host_vehicle_id: expected the ego vehicle's id" in text
     assert "without esmini's header" in text
+
+
+def test_the_loop_in_software_on_a_trace_gives_the_scenarios_report(hdlamp, tmp_path):
+    """The closed loop (restbus, reference ECU, verdicts; hdlamp sil in virtual time) on the
+    trace of a scenario: the restbus tells the ECU about the OSI road user as about the
+    scenario's, so the run report is the scenario's but for the names and the trace's end (its
+    last message at 8.38 s, the scenario's end at 8.388 s: one cycle less)."""
+    gt = tmp_path / "sil_gt_.osi"
+    write_trace(hdlamp, STRAIGHT, gt)
+    a, b = tmp_path / "direct.json", tmp_path / "osi.json"
+    run(hdlamp, "sil", STRAIGHT, "--report", a)
+    r = run(hdlamp, "sil", STRAIGHT, "--set", f"scene.world=osi:file:{gt}", "--report", b)
+    assert f"scene: 'osi:file:{gt}' (ASAM OSI): 1 road users, 8.4 s" in r.stderr, r.stderr
+    da, db = json.loads(a.read_text()), json.loads(b.read_text())
+    diffs = []
+
+    def walk(x, y, path):
+        if isinstance(x, dict):
+            assert set(x) == set(y), path
+            for k in x:
+                walk(x[k], y[k], f"{path}.{k}")
+        elif isinstance(x, list):
+            assert len(x) == len(y), path
+            for i, (u, v) in enumerate(zip(x, y)):
+                walk(u, v, f"{path}[{i}]")
+        elif x != y:
+            diffs.append((path, x, y))
+    walk(da, db, "")
+    expected = {".title", ".duration_s", ".loop.actors[0].id", ".loop.event_list[0].actor",
+                ".loop.event_list[1].actor", ".loop.event_list[1].t_enter_s", ".frames.rendered",
+                ".snapshots.pushed", ".loop.frames_in", ".loop.frames_judged",
+                ".cycles.left.rendered", ".cycles.left.complete", ".cycles.right.rendered",
+                ".cycles.right.complete"}
+    assert {p for p, _, _ in diffs} <= expected, diffs
+    for p, x, y in diffs:
+        if p.startswith((".frames", ".snapshots", ".loop.frames", ".cycles")):
+            assert x - y == 1, (p, x, y)  # the one cycle after the trace's last message
+    la, lb = da["loop"], db["loop"]
+    assert la["actors"][0]["max_lux"] == lb["actors"][0]["max_lux"] > 0
+    assert la["latency_ms"] == lb["latency_ms"] and la["passed"] == lb["passed"]
+    assert da["verdict"] == db["verdict"]
