@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A recorded world (docs/osi.md, "Traces"): the world states of a recording at their own times,
- * e.g. every message of an ASAM OSI trace. A scenario that carries one (hl_scenario.track)
- * takes its ego and road-user poses from it instead of its paths: hl_world_at() and the
- * hl_world_*_at() functions hold the newest state at or before t (before the first: the first),
+ * A recorded world (docs/osi.md, "Replaying a trace"): the world states of a recording at their
+ * own times, e.g. every message of an ASAM OSI trace. A scenario that carries one
+ * (hl_scenario.track) takes its ego and road-user poses from it instead of its paths:
+ * hl_world_at() and the hl_world_*_at() functions hold the newest state at or before t (before
+ * the first: the first),
  * so every consumer of a scenario (renderer, glare, verdicts, restbus, the CLI) replays a
  * recording unchanged.
  *
