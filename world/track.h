@@ -4,9 +4,8 @@
  * own times, e.g. every message of an ASAM OSI trace. A scenario that carries one
  * (hl_scenario.track) takes its ego and road-user poses from it instead of its paths:
  * hl_world_at() and the hl_world_*_at() functions hold the newest state at or before t (before
- * the first: the first),
- * so every consumer of a scenario (renderer, glare, verdicts, restbus, the CLI) replays a
- * recording unchanged.
+ * the first: the first), so every consumer of a scenario (renderer, glare, verdicts, restbus,
+ * the CLI) replays a recording unchanged.
  *
  * Thread-safety: built by one thread (hl_world_track_push), read-only afterwards; lookups are
  * pure (any thread) and allocate nothing.
