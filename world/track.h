@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A recorded world (docs/osi.md, "Traces"): the world states of a recording at their own times,
+ * A recorded world (docs/osi.md, "Replaying a trace"): the world states of a recording at their own times,
  * e.g. every message of an ASAM OSI trace. A scenario that carries one (hl_scenario.track)
  * takes its ego and road-user poses from it instead of its paths: hl_world_at() and the
  * hl_world_*_at() functions give the state at t, each message at its own time: between two the
