@@ -17,6 +17,7 @@
 #include "base/clock.h"
 #include "daemon/core/glare_live.h"
 #include "daemon/loop/osi_input.h"
+#include "daemon/loop/world_feed.h"
 #include "daemon/loop/pose_input.h"
 #include "base/sched.h"
 #include "render/compose.h"
@@ -430,45 +431,25 @@ static double check(struct hl_pipeline *p, struct hl_frame *f, const struct hl_v
 }
 
 /*
- * The frame's instant into p->world (docs/scenarios.md, "Scenario time in the daemon"): the
- * newest pose message when the pose input has had one; else the scenario clock: with a replay
- * the log's time of the newest lamp cycle since the start of its pass (so a recorded drive and
- * its scenario stay in step, and each --loop pass starts the scenario again), on a live bus
- * CLOCK_MONOTONIC since the renderer was ready. The clock holds at 0 before the start and at
- * duration_s past the end.
+ * The frame's instant into p->world (daemon/loop/world_feed.h): a live input's newest, else the
+ * scenario clock: with a replay the log's time of the newest lamp cycle since the start of its
+ * pass (so a recorded drive and its scenario stay in step, and each --loop pass starts the
+ * scenario again), on a live bus CLOCK_MONOTONIC since the renderer was ready, held at 0 before
+ * the start and at duration_s past the end.
  */
 static void scene_at(struct hl_pipeline *p, const struct hl_snapshot *s, int newest)
 {
-	double t_s;
+	const struct hl_world_feed feed = { p->sc, p->pose, p->osi };
+	const struct hl_lamp_snapshot *ls = &s->lamps[newest];
+	double t_s = 0.0;
 
-	if (!p->sc) {
-		p->world_source = HL_SCENE_NONE;
-		return;
-	}
-	if (p->pose && hl_pose_input_latest(p->pose, &p->world, &p->world_pose_rx_ns)) {
-		p->world_source = HL_SCENE_POSE;
-		return;
-	}
-	if (p->osi) {
-		if (!hl_osi_input_latest(p->osi, &p->world, &p->world_pose_rx_ns)) {
-			p->world = (struct hl_world_state){ .n_actors = 0 }; /* before: none */
-			p->world.ego.s_m = NAN;
-		}
-		p->world_source = HL_SCENE_OSI;
-		return;
-	}
-	if (p->cfg.replay[0]) {
-		const struct hl_lamp_snapshot *ls = &s->lamps[newest];
-
-		t_s = (ls->status & HL_LAMP_VALID) ?
-			      hl_scenario_clock_at(p->sc, s->t_pass_ns, ls->t_complete_ns) :
-			      0.0;
-		p->world_source = HL_SCENE_LOG;
-	} else {
+	if (p->sc && p->cfg.replay[0] && (ls->status & HL_LAMP_VALID))
+		t_s = hl_scenario_clock_at(p->sc, s->t_pass_ns, ls->t_complete_ns);
+	else if (p->sc && !p->cfg.replay[0])
 		t_s = hl_scenario_clock_at(p->sc, p->t_start_ns, hl_clock_monotonic_ns());
-		p->world_source = HL_SCENE_CLOCK;
-	}
-	hl_world_at(p->sc, t_s, &p->world);
+	p->world_source = hl_world_feed_at(&feed, t_s,
+					   p->cfg.replay[0] ? HL_SCENE_LOG : HL_SCENE_CLOCK,
+					   &p->world, &p->world_pose_rx_ns);
 }
 
 _Static_assert(HL_FRAME_MAX_GLOW >= HL_SCN_MAX_ACTORS * HL_SCN_MAX_LAMPS,

@@ -24,9 +24,9 @@
 
 #include "world/camera.h"
 #include "world/road.h"
+#include "world/state.h"
 #include "base/json_check.h"
 
-#define HL_SCN_MAX_ACTORS 16
 #define HL_SCN_MAX_LAMPS 8 /* a road user's emitters */
 #define HL_SCN_ID_MAX 48
 #define HL_SCN_TEXT_MAX 256

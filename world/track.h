@@ -17,7 +17,7 @@
 
 #include <stddef.h>
 
-#include "world/world.h"
+#include "world/state.h"
 
 struct hl_world_track;
 

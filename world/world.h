@@ -16,23 +16,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "world/scenario.h"
 #include "world/road.h"
-
-struct hl_world_state {
-	double t_s; /* scenario time */
-	struct hl_body_pose ego;
-	int n_actors; /* the scenario's road users, in its order */
-	struct hl_body_pose actor[HL_SCN_MAX_ACTORS];
-	uint32_t lamps_on; /* bit i: road user i's lamps are lit */
-	uint32_t present; /* bit i: road user i is in the world (a recording's may leave) */
-};
-
-/* Whether road user i is in the world state (drawn, judged, reported). */
-static inline bool hl_world_present(const struct hl_world_state *w, int i)
-{
-	return i >= 0 && i < w->n_actors && i < 32 && (w->present >> i) & 1u;
-}
+#include "world/scenario.h"
+#include "world/state.h"
 
 /*
  * The scenario's state at time t: every pose from its paths, every road user present with its

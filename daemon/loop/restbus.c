@@ -12,6 +12,7 @@
 #include <net/if.h>
 
 #include "base/clock.h"
+#include "daemon/loop/world_feed.h"
 #include "base/sched.h"
 #include "world/world.h"
 #include "base/json_write.h"
@@ -172,19 +173,14 @@ err_free:
 	return rc;
 }
 
-/* The scenario's state at deadline d: the newest pose, or the paths at d's scenario time. */
+/* The world at deadline d (daemon/loop/world_feed.h): a live input's, or d's scenario time. */
 static void world_at(struct hl_restbus *rb, int64_t d_ns, struct hl_world_state *w)
 {
+	const struct hl_world_feed feed = { rb->cfg.sc, rb->cfg.pose, rb->cfg.osi };
 	int64_t rx_ns;
 
-	if (rb->cfg.pose && hl_pose_input_latest(rb->cfg.pose, w, &rx_ns))
-		return;
-	if (rb->cfg.osi) {
-		if (!hl_osi_input_latest(rb->cfg.osi, w, &rx_ns))
-			*w = (struct hl_world_state){ .n_actors = 0 }; /* nobody yet */
-		return;
-	}
-	hl_world_at(rb->cfg.sc, hl_scenario_clock_at(rb->cfg.sc, rb->t0_ns, d_ns), w);
+	hl_world_feed_at(&feed, hl_scenario_clock_at(rb->cfg.sc, rb->t0_ns, d_ns), HL_SCENE_CLOCK,
+			 w, &rx_ns);
 }
 
 /* Sends frame fr of message i for the deadline (index idx, time d_ns); counts what became of it. */
