@@ -75,10 +75,10 @@ static int make_world(const struct hl_osi_trace *t, enum hl_osi_kind kind,
 		if (rc == -ENOMEM)
 			return error(rc, err, err_size, "out of memory");
 	}
+	if (!n)
+		return error(-EINVAL, err, err_size, "no message in the file");
 	if (!*ret)
-		return error(n ? rc : -EINVAL, err, err_size,
-			     n ? "no usable %s message; the first fault: %s" :
-				 "no message in the file%s%s",
+		return error(rc, err, err_size, "no usable %s message; the first fault: %s",
 			     hl_osi_kind_name(kind), first_why);
 	for (; i < n; i++)
 		if (decode(t, i, kind, f, why, sizeof(why)) == HL_OSI_OK)
