@@ -61,7 +61,8 @@ static int make_world(const struct hl_osi_trace *t, enum hl_osi_kind kind,
 		      struct hl_osi_world **ret, char *err, size_t err_size)
 {
 	const size_t n = hl_osi_trace_count(t);
-	char why[HL_OSI_REPLAY_WHY] = "", first_why[HL_OSI_REPLAY_WHY] = "";
+	/* first_why: "message N: " and a why whole */
+	char why[HL_OSI_REPLAY_WHY] = "", first_why[HL_OSI_REPLAY_WHY + 32] = "";
 	size_t i;
 	int rc = -EINVAL;
 
