@@ -61,7 +61,8 @@ static int make_world(const struct hl_osi_trace *t, enum hl_osi_kind kind,
 		      struct hl_osi_world **ret, char *err, size_t err_size)
 {
 	const size_t n = hl_osi_trace_count(t);
-	char why[HL_OSI_REPLAY_WHY] = "", first_why[HL_OSI_REPLAY_WHY] = "";
+	/* first_why: "message N: " and a why whole */
+	char why[HL_OSI_REPLAY_WHY] = "", first_why[HL_OSI_REPLAY_WHY + 32] = "";
 	size_t i;
 	int rc = -EINVAL;
 
@@ -75,10 +76,10 @@ static int make_world(const struct hl_osi_trace *t, enum hl_osi_kind kind,
 		if (rc == -ENOMEM)
 			return error(rc, err, err_size, "out of memory");
 	}
+	if (!n)
+		return error(-EINVAL, err, err_size, "no message in the file");
 	if (!*ret)
-		return error(n ? rc : -EINVAL, err, err_size,
-			     n ? "no usable %s message; the first fault: %s" :
-				 "no message in the file%s%s",
+		return error(rc, err, err_size, "no usable %s message; the first fault: %s",
 			     hl_osi_kind_name(kind), first_why);
 	for (; i < n; i++)
 		if (decode(t, i, kind, f, why, sizeof(why)) == HL_OSI_OK)
