@@ -108,9 +108,12 @@ static void osi_replay_clean_trace(void **state)
 	for (int i = 0; i < 5; i++)
 		assert_float_equal(hl_world_track_state(sc->track, (size_t)i)->t_s, 0.02 * i,
 				   1e-12);
-	/* between the third and the fourth message: the third's poses */
+	/* at the third message: its poses; halfway to the fourth: halfway between */
 	hl_world_at(sc, 0.05, &st);
 	assert_float_equal(st.t_s, 0.05, 0.0);
+	assert_float_equal(st.ego.pos_m[0], 1.0, 1e-9);
+	hl_world_at(sc, 0.04, &st);
+	assert_float_equal(st.t_s, 0.04, 0.0);
 	assert_float_equal(st.ego.pos_m[0], 0.8, 1e-9);
 	assert_float_equal(st.ego.pos_m[1], -1.75, 1e-12);
 	assert_float_equal(st.ego.speed_mps, 20.0, 1e-12);
