@@ -226,8 +226,7 @@ def plot(s, path, footer=""):
     keys = [k for k in sorted(r) if r[k]]
     a2.barh(keys, [r[k] for k in keys], color="#47a")
     a2.set_xscale("log")
-    a2.set_title(f"flood: datagrams and messages by reason "
-                 f"(kernel drops {s['flood']['socket_drops']})")
+    a2.set_title(f"flood: counted by reason; kernel drops {s['flood']['socket_drops']}")
     if footer:
         fig.text(0.01, 0.01, footer, fontsize=7, color="#555")
     fig.tight_layout(rect=(0, 0.04, 1, 1))

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Where the daemon's world at an instant comes from (docs/scenarios.md, "Scenario time in the
- * daemon"; docs/osi.md): a live input's newest state (the pose input once it had a message; the
- * ASAM OSI input always, no road users before its first), else the scenario (its paths or its
- * recorded track) at the scenario time the caller's clock gives. The render thread and the
- * restbus both ask here, so the frame and the ECU's inputs come from the same world.
+ * Where the daemon's world at an instant comes from (docs/osi.md; the scenario clock:
+ * docs/scenarios.md, "Scenario time in the daemon"): a live input's newest state (the pose
+ * input once it had a message; the ASAM OSI input always, no road users before its first), else
+ * the scenario (its paths or its recorded track) at the scenario time the caller's clock gives.
+ * The render thread and the restbus both ask here, so the frame and the ECU's inputs come from
+ * the same world.
  *
  * Thread-safety: the inputs' own rules (their latest() from any thread); the feed is read-only.
  */
