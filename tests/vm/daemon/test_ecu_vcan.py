@@ -717,8 +717,9 @@ def test_ecu_survives_vcan0_deleted_and_readded(hdlamp, tmp_path):
     assert summary["socket"]["opens"] == 2
     for lamp in ("left", "right"):
         s = summary["lamps"][lamp]
-        # stale at start-up and in the outage, back after each
-        assert s["recoveries"] == 2, (lamp, s)
+        # stale at start-up and in the outage, back after each; under TCG (about 50 times
+        # slower) a late start-up cycle can make one stale spell more: each one recovered
+        assert s["recoveries"] >= 2, (lamp, s)
         # the ECU's alive counter kept stepping through the outage (about 15 cycles, the 4-bit
         # counter's period), so its first cycle after it may carry the counter of the last
         # one hdlampd took and be counted as repeated, and hdlampd's socket may come back in
