@@ -15,8 +15,8 @@
  */
 int hl_live_restbus_new(const struct hl_config *cfg, const struct hl_scenario *sc,
 			struct hl_pose_input *pose, struct hl_osi_input *osi,
-			struct hl_loop_latency *loop,
-			struct hl_restbus **ret, bool *ret_config_error)
+			struct hl_loop_latency *loop, struct hl_restbus **ret,
+			bool *ret_config_error)
 {
 	char dbc[HL_CONFIG_PATH + 32], msg[1024];
 	const char *sw = cfg->restbus_light_switch;

@@ -26,7 +26,7 @@
  */
 int hl_live_restbus_new(const struct hl_config *cfg, const struct hl_scenario *sc,
 			struct hl_pose_input *pose, struct hl_osi_input *osi,
-			struct hl_loop_latency *loop,
-			struct hl_restbus **ret, bool *ret_config_error);
+			struct hl_loop_latency *loop, struct hl_restbus **ret,
+			bool *ret_config_error);
 
 #endif

@@ -237,8 +237,8 @@ static void pose_json(struct hl_pose_input *pi, FILE *f, double *ret_age_s)
  * The OSI world's counters: ,"world":{...} (docs/osi.md, "Status"): live, the newest message's
  * age (s) in *ret_age_s (or -1) and whether the world is none; a trace, its counts at load.
  */
-static void world_json(struct hl_osi_input *oi, const struct hl_osi_replay_report *rep,
-		       FILE *f, double *ret_age_s)
+static void world_json(struct hl_osi_input *oi, const struct hl_osi_replay_report *rep, FILE *f,
+		       double *ret_age_s)
 {
 	struct hl_osi_input_counts c;
 	const uint64_t *n = rep ? rep->counts : c.reasons;
@@ -261,8 +261,8 @@ static void world_json(struct hl_osi_input *oi, const struct hl_osi_replay_repor
 		fprintf(f, "%s\"%s\":%" PRIu64, r ? "," : "", hl_osi_reason_name(r), n[r]);
 	fputc('}', f);
 	if (oi && c.have)
-		fprintf(f, ",\"t_s\":%.9g,\"age_s\":%.3f,\"objects\":%d,\"state\":\"%s\"",
-			c.t_s, *ret_age_s, c.objects,
+		fprintf(f, ",\"t_s\":%.9g,\"age_s\":%.3f,\"objects\":%d,\"state\":\"%s\"", c.t_s,
+			*ret_age_s, c.objects,
 			*ret_age_s > hl_osi_input_timeout_s(oi) ? "none" : "live");
 	else if (oi)
 		fputs(",\"state\":\"none\"", f);

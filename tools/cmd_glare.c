@@ -349,8 +349,7 @@ int hl_cmd_glare(int argc, char **argv)
 	}
 	if ((scn && load_scenario(scn, &sc) < 0) ||
 	    (world && hl_tool_world_load("hdlamp glare", world, osi_message, sc, &sc) < 0) ||
-	    load_set(set, dir, &reg) < 0 ||
-	    distributions(lid_path, preset, lids, dense) < 0)
+	    load_set(set, dir, &reg) < 0 || distributions(lid_path, preset, lids, dense) < 0)
 		goto out;
 	{
 		const struct hl_lid_grid *const grids[2] = { hl_lid_grid(lids[0]),

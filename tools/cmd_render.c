@@ -186,8 +186,9 @@ int hl_cmd_render(int argc, char **argv)
 
 	/* The moving scene of a scenario has its own options (cmd_render_scenario.c). */
 	for (int i = 1; i < argc && strcmp(argv[i], "--") != 0; i++)
-		if (strcmp(argv[i], "--scenario") == 0 || strncmp(argv[i], "--scenario=", 11) == 0 ||
-		    strcmp(argv[i], "--world") == 0 || strncmp(argv[i], "--world=", 8) == 0)
+		if (strcmp(argv[i], "--scenario") == 0 ||
+		    strncmp(argv[i], "--scenario=", 11) == 0 || strcmp(argv[i], "--world") == 0 ||
+		    strncmp(argv[i], "--world=", 8) == 0)
 			return hl_cmd_render_scenario(argc, argv);
 	hl_gi_config_default(&GI_DEFAULTS);
 	rc = parse(argc, argv, &o);

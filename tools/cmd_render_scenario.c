@@ -206,8 +206,8 @@ static int parse(int argc, char **argv, struct options *o)
 			return HL_EXIT_USAGE;
 		}
 	}
-	if (optind != argc || (!o->scenario && !o->world) || !o->out || (!o->lamps_dir && !o->n_lid) ||
-	    (o->lamps_dir && o->n_lid)) {
+	if (optind != argc || (!o->scenario && !o->world) || !o->out ||
+	    (!o->lamps_dir && !o->n_lid) || (o->lamps_dir && o->n_lid)) {
 		usage(stderr);
 		return HL_EXIT_USAGE;
 	}

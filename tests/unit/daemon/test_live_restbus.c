@@ -47,7 +47,8 @@ static void live_restbus_missing_dbc_is_a_config_error(void **state)
 	hl_config_defaults(&cfg);
 	strcpy(cfg.restbus_interface, "vcan9");
 	strcpy(cfg.restbus_dbc, "/nonexistent-dir/inputs.dbc");
-	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, NULL, &rb, &config_error), -ENOENT);
+	assert_int_equal(hl_live_restbus_new(&cfg, sc, NULL, NULL, NULL, &rb, &config_error),
+			 -ENOENT);
 	assert_true(config_error);
 	assert_null(rb);
 	hl_scenario_free(sc);
