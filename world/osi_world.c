@@ -237,7 +237,7 @@ static void cast(struct hl_osi_world *w, const struct hl_osi_frame *f,
 int hl_osi_world_new(const struct hl_osi_frame *first, const struct hl_scenario *base,
 		     struct hl_osi_world **ret, char *why, size_t why_size)
 {
-	const struct hl_osi_object *host;
+	const struct hl_osi_object *host = NULL;
 	struct hl_body_pose ego;
 	struct hl_osi_world *w;
 	int rc;
@@ -302,7 +302,7 @@ void hl_osi_world_free(struct hl_osi_world *w)
 void hl_osi_world_cast(struct hl_osi_world *w, const struct hl_osi_frame *f,
 		       uint64_t counts[HL_OSI_REASONS])
 {
-	const struct hl_osi_object *host;
+	const struct hl_osi_object *host = NULL;
 
 	if (host_of(f, &host, NULL, 0) == HL_OSI_OK && host->id == w->host_id)
 		cast(w, f, host, counts);
@@ -326,7 +326,7 @@ enum hl_osi_reason hl_osi_world_map(const struct hl_osi_world *w, const struct h
 				    uint64_t counts[HL_OSI_REASONS], char *why, size_t why_size)
 {
 	const struct hl_scenario *sc = w->sc;
-	const struct hl_osi_object *host;
+	const struct hl_osi_object *host = NULL;
 	enum hl_osi_reason r = host_of(f, &host, why, why_size);
 	struct hl_world_state st = { .t_s = t_s, .n_actors = sc->n_actors };
 

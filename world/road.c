@@ -397,15 +397,17 @@ void hl_road_project(const struct hl_road *road, double x_m, double y_m, double 
 		     double *ret_d_m)
 {
 	struct hl_road_proj_part pp, best_pp;
-	double best = INFINITY, d;
+	double best, d;
 
 	/* Each part made on the fly (no table on the stack); ties: the lower index. */
-	for (int i = 0; i < road->n_segments + 2; i++) {
+	make_part(road, 0, &best_pp);
+	best = hl_road_part_dist2(&best_pp, x_m, y_m, ret_d_m);
+	for (int i = 1; i < road->n_segments + 2; i++) {
 		double dist2;
 
 		make_part(road, i, &pp);
 		dist2 = hl_road_part_dist2(&pp, x_m, y_m, &d);
-		if (dist2 < best || i == 0) {
+		if (dist2 < best) {
 			best = dist2;
 			best_pp = pp;
 			*ret_d_m = d;
